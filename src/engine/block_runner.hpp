@@ -1,0 +1,327 @@
+// Integrates a contiguous range of grid points with one scene × method × carried-state
+// instantiation. Lanes are grid points; a tile of W lanes is advanced `chunk` steps at a time,
+// then looked at: lanes that finished (t_end reached, basin decided with early stop, diverged,
+// broke down) hand their results over and their slot is refilled with the next point, so lanes
+// that stop early stop costing time. A lane's arithmetic never depends on its slot or on the
+// other lanes, so results are the same bits for any split of the grid over ranks and threads.
+//
+// Every lane has done a multiple of `chunk` steps when looked at, except for the last
+// steps % chunk steps: lanes that reach that remainder move to a second "finisher" tile, which
+// runs them in one go once it is full (or at the end of the block).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "engine/lane_tile.hpp"
+#include "engine/run_plan.hpp"
+#include "engine/sync_tracker.hpp"
+#include "physics/double_well.hpp"
+#include "physics/partials.hpp"
+
+namespace cs {
+
+template <Scene S, class Method, Carry carry, bool Uniform>
+class BlockRunner {
+  static constexpr int W = 64;
+  static constexpr int D = S::dof;
+  static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
+  using Tile = LaneTile<S, Method, W>;
+  using Params = ParamsOf<S, double>;
+  using Coef = typename Method::template Coef<double>;
+
+  // Per-slot bookkeeping that travels with a lane from one tile to the other.
+  struct Book {
+    std::int64_t point = -1;  // −1: empty slot
+    std::int64_t n = 0;       // steps done
+    bool trapped = false;     // basin decided by the energy trap
+    double settle_time = 0.0;
+    SyncTracker sync;
+  };
+
+ public:
+  BlockRunner(const RunPlan& plan, BlockResults& out) : plan_(plan), out_(out) {
+    const auto& base = plan.grid.base_parameters();
+    uniform_params_ = S::params_from(base.data());
+    LaneState<D> x{};
+    uniform_coef_ = Method::template coefficients<S>(plan.spec.h, uniform_params_, x);
+    steps_ = plan.spec.steps;
+    remainder_ = static_cast<int>(steps_ % plan.chunk);
+    const auto& m = plan.spec.measures;
+    if (m.sync) {
+      sync_n0_ = std::llround(m.sync->window_from / plan.spec.h);
+      sync_n1_ = std::llround(m.sync->window_to / plan.spec.h);
+    }
+    if (m.basin) basin_early_stop_ = m.basin->early_stop;
+    idle_ = make_idle_lane();
+  }
+
+  void run() {
+    next_ = out_.range.begin;
+    for (int i = 0; i < W; ++i) clear(main_, main_book_, i);
+    for (int i = 0; i < W; ++i) clear(fin_, fin_book_, i);
+    refill();
+    while (active_ > 0 || fin_count_ > 0) {
+      if (active_ > 0) {
+        advance_tile(main_, main_book_, plan_.chunk);
+        look_at_main();
+        refill();
+      }
+      if (fin_count_ == W || (active_ == 0 && fin_count_ > 0)) run_finisher();
+    }
+  }
+
+ private:
+  // ---- lanes in and out ----------------------------------------------------------------------
+
+  LaneState<D> make_idle_lane() const {
+    LaneState<D> x{};
+    double params[16], state[16];
+    plan_.grid.point(out_.range.begin, params, state);
+    load_state(x, state);
+    Params c = S::params_from(params);
+    Method::template start<S>(x, c);
+    return x;
+  }
+
+  static void load_state(LaneState<D>& x, const double* state) {
+    for (int d = 0; d < D; ++d) x.q[d] = state[d], x.p[d] = state[D + d];
+    x.z = state[2 * D];
+    x.mu = std::log(state[2 * D + 1]);
+    x.broken = 0.0;
+  }
+
+  void clear(Tile& t, Book* book, int i) {
+    t.set_lane(i, idle_);
+    t.params[i] = uniform_params_;
+    t.coef[i] = uniform_coef_;
+    book[i] = Book{};
+  }
+
+  void refill() {
+    for (int i = 0; i < W && next_ < out_.range.end; ++i) {
+      if (main_book_[i].point >= 0) continue;
+      while (next_ < out_.range.end && !load(i, next_++)) {
+      }
+    }
+  }
+
+  // Puts point `k` into main slot i; false when it is finished at once (breakdown at t = 0).
+  bool load(int i, std::int64_t k) {
+    double params[16], state[16];
+    plan_.grid.point(k, params, state);
+    LaneState<D> x{};
+    load_state(x, state);
+    Params c = S::params_from(params);
+    Method::template start<S>(x, c);
+    Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
+    Book b;
+    b.point = k;
+    if (Method::template breaks_down<S>(coef)) {
+      finish(b, x, c, LaneStatus::breakdown);
+      return false;
+    }
+    main_.set_lane(i, x);
+    main_.params[i] = c;
+    main_.coef[i] = coef;
+    main_book_[i] = b;
+    observe(main_book_[i], x, c);
+    ++active_;
+    if (steps_ < plan_.chunk) {  // a run shorter than one chunk is all remainder
+      if (fin_count_ == W) run_finisher();
+      move_to_finisher(i);
+    }
+    return true;
+  }
+
+  // ---- stepping ------------------------------------------------------------------------------
+
+  void advance_tile(Tile& t, Book* book, int steps) {
+    if (plan_.map.sync_r >= 0) {
+      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [&](int s) {
+        for (int i = 0; i < W; ++i) {
+          if (book[i].point < 0) continue;
+          auto n = book[i].n + s + 1;
+          if (n < sync_n0_ || n > sync_n1_) continue;
+          double q[D], p[D];
+          for (int d = 0; d < D; ++d) q[d] = t.q[d][i], p[d] = t.p[d][i];
+          sample_sync(book[i], n, q, p, t.params[i]);
+        }
+      });
+    } else {
+      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [](int) {});
+    }
+  }
+
+  void look_at_main() {
+    for (int i = 0; i < W; ++i) {
+      Book& b = main_book_[i];
+      if (b.point < 0) continue;
+      b.n += plan_.chunk;
+      LaneState<D> x = main_.lane(i);
+      const Params& c = main_.params[i];
+      LaneStatus status = LaneStatus::ok;
+      bool failed = lane_failed(x, status);
+      if (!failed) observe(b, x, c);
+      bool done = failed || b.n == steps_ || (b.trapped && basin_early_stop_);
+      if (done) {
+        finish(b, x, c, status);
+        clear(main_, main_book_, i);
+        --active_;
+      } else if (steps_ - b.n < plan_.chunk) {
+        move_to_finisher(i);
+      }
+    }
+  }
+
+  void move_to_finisher(int i) {
+    int j = fin_count_++;
+    fin_.set_lane(j, main_.lane(i));
+    fin_.params[j] = main_.params[i];
+    fin_.coef[j] = main_.coef[i];
+    fin_book_[j] = main_book_[i];
+    clear(main_, main_book_, i);
+    --active_;
+  }
+
+  void run_finisher() {
+    advance_tile(fin_, fin_book_, remainder_);
+    for (int j = 0; j < fin_count_; ++j) {
+      Book& b = fin_book_[j];
+      b.n += remainder_;
+      LaneState<D> x = fin_.lane(j);
+      LaneStatus status = LaneStatus::ok;
+      lane_failed(x, status);
+      if (status == LaneStatus::ok) observe(b, x, fin_.params[j]);
+      finish(b, x, fin_.params[j], status);
+      clear(fin_, fin_book_, j);
+    }
+    fin_count_ = 0;
+  }
+
+  static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
+    if (x.broken > 0.0) status = LaneStatus::breakdown;
+    else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
+    return status != LaneStatus::ok;
+  }
+
+  // ---- measures ------------------------------------------------------------------------------
+
+  // Looks at a healthy lane at step b.n (a multiple of the chunk, or t_end).
+  void observe(Book& b, const LaneState<D>& x, const Params& c) {
+    const auto& map = plan_.map;
+    if (map.basin >= 0 && !b.trapped) check_trap(b, x, c);
+    if (plan_.samples > 0) {
+      auto every = plan_.spec.measures.trajectory->every;
+      if (b.n % every == 0) record_sample(b.point, b.n / every, x, c);
+    }
+    if (map.sync_r >= 0 && b.n == 0) {
+      sample_sync(b, 0, x.q, x.p, c);
+    }
+  }
+
+  void sample_sync(Book& b, std::int64_t n, const double* q, const double* p, const Params& c) {
+    if constexpr (requires { c.omega1_sq; }) {
+      b.sync.sample(n, sync_n0_, sync_n1_, q, p, std::sqrt(c.omega1_sq), std::sqrt(c.omega2_sq));
+    }
+  }
+
+  // Double well: E = p²/2 + U(q) never increases for γ ≥ 0, so once E < U(0) = a⁴/2 (less a
+  // margin for the integrator's energy error) the lane can never cross q = 0 again.
+  void check_trap(Book& b, const LaneState<D>& x, const Params& c) {
+    if constexpr (std::is_same_v<S, DoubleWell>) {
+      if (!(c.gamma >= 0.0)) return;
+      double saddle = 0.5 * (c.a * c.a) * (c.a * c.a);
+      if (DoubleWell::energy(x.q[0], x.p[0], c.a) < saddle - plan_.basin_margin) {
+        b.trapped = true;
+        b.settle_time = static_cast<double>(b.n) * plan_.spec.h;
+      }
+    }
+  }
+
+  double* column(int c, std::int64_t point) {
+    auto& col = out_.columns[static_cast<std::size_t>(c)];
+    auto width = plan_.columns[static_cast<std::size_t>(c)].width;
+    return col.data() + (point - out_.range.begin) * width;
+  }
+
+  void state_values(const LaneState<D>& x, const Params& c, double* v, double& H) const {
+    for (int d = 0; d < D; ++d) v[d] = x.q[d], v[D + d] = x.p[d];
+    v[2 * D] = x.z;
+    v[2 * D + 1] = x.mu;
+    H = std::exp(x.mu) * K<S>(x.q, x.p, x.z, c);
+  }
+
+  void record_sample(std::int64_t point, std::int64_t sample, const LaneState<D>& x,
+                     const Params& c) {
+    double v[kMaxVars], H;
+    state_values(x, c, v, H);
+    const auto& map = plan_.map;
+    for (int k = 0; k < kMaxVars; ++k)
+      if (map.traj_vars[k] >= 0) column(map.traj_vars[k], point)[sample] = v[k];
+    if (map.traj_H >= 0) column(map.traj_H, point)[sample] = H;
+  }
+
+  void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
+    const auto& map = plan_.map;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    auto k = b.point;
+    column(map.status, k)[0] = static_cast<double>(status);
+    double v[kMaxVars], H;
+    state_values(x, c, v, H);
+    if (status == LaneStatus::breakdown) {
+      for (auto& value : v) value = nan;
+      H = nan;
+    }
+    for (int i = 0; i < kMaxVars; ++i)
+      if (map.final_vars[i] >= 0) column(map.final_vars[i], k)[0] = v[i];
+    if (map.final_H >= 0) column(map.final_H, k)[0] = H;
+    if (plan_.samples > 0 && status != LaneStatus::ok) {
+      // A failed lane's trajectory ends where it failed: later samples stay NaN.
+      auto every = plan_.spec.measures.trajectory->every;
+      for (auto s = b.n / every + 1; s < plan_.samples; ++s) {
+        for (int i = 0; i < kMaxVars; ++i)
+          if (map.traj_vars[i] >= 0) column(map.traj_vars[i], k)[s] = nan;
+        if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
+      }
+    }
+    if (map.basin >= 0) finish_basin(b, x, status);
+    if (map.sync_r >= 0) finish_sync(b, status);
+  }
+
+  void finish_basin(const Book& b, const LaneState<D>& x, LaneStatus status) {
+    const auto& map = plan_.map;
+    bool decided = status == LaneStatus::ok && b.trapped;
+    // With early stop the label is taken when the trap closes; integrated to t_end it is the
+    // well the lane ends in. Both agree unless the margin were too small (tested).
+    column(map.basin, b.point)[0] = decided ? (x.q[0] > 0.0 ? 1.0 : -1.0) : 0.0;
+    column(map.settle_time, b.point)[0] =
+        decided ? b.settle_time : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  void finish_sync(const Book& b, LaneStatus status) {
+    const auto& map = plan_.map;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    SyncResult r{nan, nan, nan, nan};
+    if (status == LaneStatus::ok && b.n >= sync_n1_)
+      r = b.sync.result(static_cast<double>(sync_n1_ - sync_n0_) * plan_.spec.h);
+    column(map.sync_r, b.point)[0] = r.r;
+    column(map.sync_phase_drift, b.point)[0] = r.phase_drift;
+    column(map.sync_freq_ratio, b.point)[0] = r.freq_ratio;
+    column(map.sync_amplitude, b.point)[0] = r.amplitude;
+  }
+
+  const RunPlan& plan_;
+  BlockResults& out_;
+  Params uniform_params_{};
+  Coef uniform_coef_{};
+  LaneState<D> idle_{};
+  std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
+  int remainder_ = 0, active_ = 0, fin_count_ = 0;
+  bool basin_early_stop_ = true;
+  Tile main_{}, fin_{};
+  Book main_book_[W], fin_book_[W];
+};
+
+}  // namespace cs

@@ -1,0 +1,42 @@
+#include "engine/grid.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace cs {
+namespace {
+
+template <class Info>
+int index_of(const std::vector<Info>& list, const std::string& name) {
+  auto it = std::find_if(list.begin(), list.end(), [&](const Info& x) { return x.name == name; });
+  if (it == list.end()) throw std::logic_error("grid: unknown name " + name);
+  return static_cast<int>(it - list.begin());
+}
+
+}  // namespace
+
+Grid::Grid(const RunSpec& spec, const SceneInfo& scene) {
+  for (const auto& p : scene.parameters) base_params_.push_back(spec.parameters.at(p.name));
+  for (const auto& v : scene.variables) base_state_.push_back(spec.initial.at(v.name));
+  std::int64_t stride = 1;
+  for (auto axis = spec.axes.rbegin(); axis != spec.axes.rend(); ++axis) {
+    int slot = axis->is_parameter ? index_of(scene.parameters, axis->target)
+                                  : index_of(scene.variables, axis->target);
+    axes_.push_back({&axis->values, axis->is_parameter, slot, stride});
+    stride *= static_cast<std::int64_t>(axis->values.size());
+    uniform_params_ = uniform_params_ && !axis->is_parameter;
+  }
+  size_ = stride;
+}
+
+void Grid::point(std::int64_t index, double* params, double* state) const {
+  std::copy(base_params_.begin(), base_params_.end(), params);
+  std::copy(base_state_.begin(), base_state_.end(), state);
+  for (const auto& axis : axes_) {
+    auto n = static_cast<std::int64_t>(axis.values->size());
+    double v = (*axis.values)[static_cast<std::size_t>((index / axis.stride) % n)];
+    (axis.is_parameter ? params : state)[axis.slot] = v;
+  }
+}
+
+}  // namespace cs

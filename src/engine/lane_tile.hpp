@@ -1,0 +1,82 @@
+// A tile: W lanes of one scene in structure-of-arrays form, small enough to stay in L1 while it
+// is advanced for a chunk of steps (time-blocking). The step loop is outside, the lane loop
+// inside: the compiler vectorises the lane loop (AVX2/AVX-512) and runs several vectors at once,
+// which hides the latency of the step's long dependency chain.
+//
+// `Uniform` selects how parameters reach the lanes: when no grid axis is a scene parameter they
+// are scalars the compiler keeps in registers (and folds a·a etc. out of the loop); otherwise
+// each lane reads its own.
+#pragma once
+
+#include <cstdint>
+
+#include "numerics/lane_state.hpp"
+#include "physics/scene_concept.hpp"
+
+namespace cs {
+
+template <Scene S, class Method, int W>
+struct LaneTile {
+  static constexpr int D = S::dof;
+  static constexpr int width = W;
+  using Params = ParamsOf<S, double>;
+  using Coef = typename Method::template Coef<double>;
+
+  alignas(64) double q[D][W];
+  alignas(64) double p[D][W];
+  alignas(64) double z[W];
+  alignas(64) double mu[W];
+  alignas(64) double kq[D][W];
+  alignas(64) double broken[W];
+  Params params[W];  // per-lane parameters (used when not uniform)
+  Coef coef[W];
+
+  LaneState<D> lane(int i) const {
+    LaneState<D> x;
+    for (int d = 0; d < D; ++d) x.q[d] = q[d][i], x.p[d] = p[d][i], x.kq[d] = kq[d][i];
+    x.z = z[i];
+    x.mu = mu[i];
+    x.broken = broken[i];
+    return x;
+  }
+
+  void set_lane(int i, const LaneState<D>& x) {
+    for (int d = 0; d < D; ++d) q[d][i] = x.q[d], p[d][i] = x.p[d], kq[d][i] = x.kq[d];
+    z[i] = x.z;
+    mu[i] = x.mu;
+    broken[i] = x.broken;
+  }
+};
+
+// Advance every lane of the tile by `steps` steps, calling after_step(s) after step s.
+// Parameters come from `uniform` (one set for all lanes) when Uniform, else from the tile.
+template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
+inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, double>& uniform,
+                    const typename Method::template Coef<double>& uniform_coef,
+                    AfterStep&& after_step) {
+  constexpr int D = S::dof;
+  const ParamsOf<S, double> c0 = uniform;
+  const auto k0 = uniform_coef;
+  for (int s = 0; s < steps; ++s) {
+#pragma GCC ivdep
+    for (int i = 0; i < W; ++i) {
+      LaneState<D> x;
+      for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i], x.kq[d] = t.kq[d][i];
+      if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
+      if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
+      if constexpr (!S::kz_constant) x.broken = t.broken[i]; else x.broken = 0.0;
+      if constexpr (Uniform) {
+        Method::template step<S, carry>(x, c0, k0);
+      } else {
+        Method::template step<S, carry>(x, t.params[i], t.coef[i]);
+      }
+      for (int d = 0; d < D; ++d) t.q[d][i] = x.q[d], t.p[d][i] = x.p[d], t.kq[d][i] = x.kq[d];
+      if constexpr (carry.z || S::z_feeds_back) t.z[i] = x.z;
+      if constexpr (carry.mu) t.mu[i] = x.mu;
+      if constexpr (!S::kz_constant) t.broken[i] = x.broken;
+    }
+    after_step(s);
+  }
+}
+
+}  // namespace cs

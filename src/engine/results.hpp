@@ -1,0 +1,31 @@
+// Results of a run, as columns: one per output dataset, `width` values per grid point
+// (1, or the number of trajectory samples). Values are kept as doubles in the engine and
+// converted to the dataset's element type when written.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/output_file.hpp"
+
+namespace cs {
+
+// One output dataset: its HDF5 description and how many values each point has.
+struct ColumnSpec {
+  DatasetSpec dataset;
+  std::int64_t width = 1;
+};
+
+// The values of every column for one contiguous range of points.
+struct BlockResults {
+  PointRange range;
+  std::vector<std::vector<double>> columns;  // in the plan's column order
+
+  BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
+    auto n = r.end - r.begin;
+    for (const auto& s : specs) columns.emplace_back(static_cast<std::size_t>(n * s.width), 0.0);
+  }
+};
+
+}  // namespace cs

@@ -1,0 +1,152 @@
+#include "engine/run_plan.hpp"
+
+#include <memory>
+#include <numeric>
+
+#include "engine/block_runner.hpp"
+#include "numerics/hybrid_leapfrog.hpp"
+#include "physics/coupled_oscillators.hpp"
+#include "physics/damped_oscillator.hpp"
+#include "physics/double_well.hpp"
+#include "physics/z2_damping.hpp"
+
+namespace cs {
+namespace {
+
+std::string dataset_variable(const std::string& var) {
+  return var == "lambda" ? "log_lambda" : var;
+}
+
+std::string variable_long_name(const VariableInfo& v) {
+  return v.name == "lambda" ? "ln lambda (log of the integration factor)" : v.description;
+}
+
+bool wants(const std::vector<std::string>& list, const std::string& name) {
+  return std::find(list.begin(), list.end(), name) != list.end();
+}
+
+// Steps between looks at the lanes: short enough for a fine settle_time and a prompt early
+// stop, long enough that looking costs little next to stepping; always a divisor of the
+// trajectory sampling interval so that samples fall on looks.
+int choose_chunk(const RunSpec& spec) {
+  if (!spec.measures.trajectory) return 16;
+  auto every = spec.measures.trajectory->every;
+  for (std::int64_t c = std::min<std::int64_t>(every, 64); c > 1; --c)
+    if (every % c == 0) return static_cast<int>(c);
+  return 1;
+}
+
+}  // namespace
+
+RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
+    : spec(s), scene(sc), method(m), grid(s, sc) {
+  const auto& measures = spec.measures;
+  const auto nvars = scene.variables.size();
+  chunk = choose_chunk(spec);
+  map.final_vars.assign(nvars, -1);
+  map.traj_vars.assign(nvars, -1);
+  auto add = [&](DatasetSpec d, std::int64_t width = 1) {
+    columns.push_back({std::move(d), width});
+    return static_cast<int>(columns.size() - 1);
+  };
+
+  map.status = add({"status", ElementType::uint8, false, "integration status", "", {0, 1, 2},
+                    "ok diverged integrator_breakdown", std::nullopt});
+
+  if (measures.final_state) {
+    const auto& vars = measures.final_state->vars;
+    for (std::size_t i = 0; i < nvars; ++i) {
+      const auto& v = scene.variables[i];
+      if (!wants(vars, v.name)) continue;
+      map.final_vars[i] = add({"final_" + dataset_variable(v.name), ElementType::float64, false,
+                               variable_long_name(v) + " at t_end", "", {}, "", std::nullopt});
+    }
+    if (wants(vars, "z") && wants(vars, "lambda")) {
+      map.final_H = add({"final_H", ElementType::float64, false,
+                         "H = lambda*K at t_end (conserved by the exact flow)", "", {}, "",
+                         std::nullopt});
+    }
+    carry.z = wants(vars, "z") || map.final_H >= 0;
+    carry.mu = wants(vars, "lambda");
+  }
+
+  if (measures.trajectory) {
+    auto every = measures.trajectory->every;
+    samples = spec.steps / every + 1;
+    for (std::int64_t k = 0; k < samples; ++k)
+      sample_times.push_back(static_cast<double>(k * every) * spec.h);
+    for (std::size_t i = 0; i < nvars; ++i) {
+      const auto& v = scene.variables[i];
+      map.traj_vars[i] = add({"traj_" + dataset_variable(v.name), ElementType::float64, true,
+                              variable_long_name(v), "", {}, "", std::nullopt},
+                             samples);
+    }
+    map.traj_H = add({"traj_H", ElementType::float64, true, "H = lambda*K", "", {}, "",
+                      std::nullopt},
+                     samples);
+    carry.z = carry.mu = true;
+  }
+
+  if (measures.basin) {
+    map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
+                     "left_well undecided right_well", std::nullopt});
+    map.settle_time = add({"settle_time", ElementType::float64, false,
+                           "time at which the energy trap decided the basin", "time", {}, "",
+                           std::nullopt});
+    // The hybrid leap-frog's energy error on the double well is O(h²) (see the basin tests
+    // for the measured bound); the margin is four times the largest rise measured.
+    basin_margin = 4.0 * spec.h * spec.h;
+  }
+
+  if (measures.sync) {
+    map.sync_r = add({"sync_r", ElementType::float64, false,
+                      "phase-locking value |<exp(i(theta1-theta2))>| over the window", "", {}, "",
+                      std::nullopt});
+    map.sync_phase_drift = add({"sync_phase_drift", ElementType::float64, false,
+                                "mean rate of the unwrapped phase difference over the window",
+                                "rad/time", {}, "", std::nullopt});
+    map.sync_freq_ratio = add({"sync_freq_ratio", ElementType::float64, false,
+                               "measured frequency ratio omega1/omega2 over the window", "", {},
+                               "", std::nullopt});
+    map.sync_amplitude = add({"sync_amplitude", ElementType::float64, false,
+                              "smaller oscillator amplitude at the window's end", "", {}, "",
+                              std::nullopt});
+  }
+}
+
+// ---- dispatch: the one place where run-time names meet template instantiations ------------
+
+namespace {
+
+template <Scene S, class Method>
+void run_with(const RunPlan& plan, BlockResults& results) {
+  auto go = [&]<Carry carry>() {
+    if (plan.grid.uniform_parameters())
+      std::make_unique<BlockRunner<S, Method, carry, true>>(plan, results)->run();
+    else
+      std::make_unique<BlockRunner<S, Method, carry, false>>(plan, results)->run();
+  };
+  if (plan.carry.mu) go.template operator()<Carry{true, true}>();
+  else if (plan.carry.z) go.template operator()<Carry{true, false}>();
+  else go.template operator()<Carry{false, false}>();
+}
+
+template <class Method>
+void run_scene(const RunPlan& plan, BlockResults& results) {
+  const auto& name = plan.scene.name;
+  if (name == "damped_oscillator") return run_with<DampedOscillator, Method>(plan, results);
+  if (name == "z2_damping") return run_with<Z2Damping, Method>(plan, results);
+  if (name == "double_well") return run_with<DoubleWell, Method>(plan, results);
+  if (name == "coupled_oscillators") return run_with<CoupledOscillators, Method>(plan, results);
+  throw std::logic_error("no kernel for scene " + name);
+}
+
+}  // namespace
+
+void run_block(const RunPlan& plan, BlockResults& results) {
+  const auto& method = plan.method.name;
+  if (method == "hybrid_leapfrog") return run_scene<HybridLeapfrog>(plan, results);
+  throw std::logic_error("no kernel for method " + method);
+}
+
+}  // namespace cs

@@ -1,0 +1,52 @@
+// Everything the engine decides once per run from a validated spec: what state to carry, how
+// often to look at the lanes, which datasets to produce, and the kernel instantiation to use.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/grid.hpp"
+#include "engine/results.hpp"
+#include "io/run_spec.hpp"
+#include "numerics/lane_state.hpp"
+#include "numerics/method_catalog.hpp"
+#include "physics/scene_catalog.hpp"
+
+namespace cs {
+
+enum class LaneStatus : std::uint8_t { ok = 0, diverged = 1, breakdown = 2 };
+
+// Where each measure's values go: a column index, or −1 when not requested.
+struct ColumnMap {
+  int status = -1;
+  std::vector<int> final_vars;  // per catalog variable (lambda → final_log_lambda), −1 if not
+  int final_H = -1;
+  std::vector<int> traj_vars;   // per catalog variable, −1 if no trajectory
+  int traj_H = -1;
+  int basin = -1, settle_time = -1;
+  int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
+};
+
+struct RunPlan {
+  const RunSpec& spec;
+  const SceneInfo& scene;
+  const MethodInfo& method;
+  Grid grid;
+  Carry carry{};
+  int chunk = 16;                 // steps between looks at the lanes (divides trajectory.every)
+  std::int64_t samples = 0;       // trajectory samples per point (0: none)
+  std::vector<double> sample_times;
+  double basin_margin = 0.0;      // energy below a⁴/2 by which a lane counts as trapped
+  std::vector<ColumnSpec> columns;
+  ColumnMap map;
+
+  RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
+};
+
+// Integrates the points of `results.range` and fills `results`. Thread-safe for distinct blocks.
+void run_block(const RunPlan& plan, BlockResults& results);
+
+}  // namespace cs

@@ -1,0 +1,709 @@
+// Parallel HDF5 writer for the result file (see output_file.hpp for the layout contract).
+//
+// Every call into HDF5 that touches file metadata (create, attributes, dimension scales, close) is
+// collective: all ranks make the same calls with the same arguments, in the same order. Raw data
+// goes through collective H5Dwrite calls. Checks that could fail on one rank only (bad ranges,
+// unknown names, file system operations done by rank 0) are agreed on with an Allreduce before
+// any collective HDF5 call, so every rank throws together instead of some ranks hanging.
+#include "io/output_file.hpp"
+
+#include <hdf5.h>
+#include <hdf5_hl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace cs {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Small RAII owners of HDF5 identifiers: one per kind, each calls its own H5*close.
+
+template <herr_t (*Close)(hid_t)>
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
+  Handle& operator=(Handle&& other) noexcept {
+    if (this != &other) {
+      reset();
+      id_ = std::exchange(other.id_, H5I_INVALID_HID);
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  // Closes now and reports whether HDF5 accepted it (the destructor cannot report).
+  bool close() {
+    if (!valid()) return true;
+    const herr_t status = Close(std::exchange(id_, H5I_INVALID_HID));
+    return status >= 0;
+  }
+
+ private:
+  void reset() { close(); }
+  hid_t id_ = H5I_INVALID_HID;
+};
+
+using FileHandle = Handle<H5Fclose>;
+using DatasetHandle = Handle<H5Dclose>;
+using SpaceHandle = Handle<H5Sclose>;
+using TypeHandle = Handle<H5Tclose>;
+using PropertyHandle = Handle<H5Pclose>;
+using AttributeHandle = Handle<H5Aclose>;
+
+// ---------------------------------------------------------------------------------------------
+// Error reporting. HDF5's own printing is switched off; on failure we pull the innermost message
+// (usually the root cause, e.g. "No such file or directory") out of the error stack.
+
+herr_t remember_innermost(unsigned, const H5E_error2_t* error, void* out) {
+  if (error->desc != nullptr && *error->desc != '\0') {
+    *static_cast<std::string*>(out) = error->desc;
+  }
+  return 0;
+}
+
+std::string hdf5_error_detail() {
+  std::string detail;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, remember_innermost, &detail);
+  H5Eclear2(H5E_DEFAULT);
+  return detail;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& what, std::string detail = {}) {
+  std::string message = path + ": " + what;
+  if (!detail.empty()) message += " (" + detail + ")";
+  throw std::runtime_error(message);
+}
+
+// HDF5 identifiers and herr_t are both negative on failure.
+template <typename T>
+T check(T result, const std::string& path, const std::string& what) {
+  if (result < 0) fail(path, what, hdf5_error_detail());
+  return result;
+}
+
+// Every rank learns whether all ranks succeeded; used before collective calls so that a local
+// failure turns into an exception on every rank rather than a deadlock.
+bool all_ok(bool local_ok, MPI_Comm comm) {
+  int ok = local_ok ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, comm);
+  return ok != 0;
+}
+
+// Rank 0 runs `action` (a file-system step); its error message, if any, reaches every rank.
+template <typename Action>
+void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& what,
+                     Action&& action) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string error;
+  if (rank == 0) {
+    try {
+      action();
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  int length = static_cast<int>(error.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  error.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  if (length > 0) fail(path, what, error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Types.
+
+hid_t memory_type(ElementType type) {
+  switch (type) {
+    case ElementType::int8: return H5T_NATIVE_INT8;
+    case ElementType::uint8: return H5T_NATIVE_UINT8;
+    case ElementType::float64: break;
+  }
+  return H5T_NATIVE_DOUBLE;
+}
+
+// Fixed little-endian file types, so the file is the same whatever machine wrote it.
+hid_t file_type(ElementType type) {
+  switch (type) {
+    case ElementType::int8: return H5T_STD_I8LE;
+    case ElementType::uint8: return H5T_STD_U8LE;
+    case ElementType::float64: break;
+  }
+  return H5T_IEEE_F64LE;
+}
+
+// One value converted to a dataset's element type, as raw bytes for H5Pset_fill_value/H5Awrite.
+struct TypedValue {
+  double d = 0;
+  std::int8_t i8 = 0;
+  std::uint8_t u8 = 0;
+  const void* pointer(ElementType type) const {
+    switch (type) {
+      case ElementType::int8: return &i8;
+      case ElementType::uint8: return &u8;
+      case ElementType::float64: break;
+    }
+    return &d;
+  }
+};
+
+// Integer labels must be exactly representable; a silently wrapped flag value would mislabel data.
+bool representable(double value, ElementType type) {
+  switch (type) {
+    case ElementType::int8: return value == std::trunc(value) && value >= -128 && value <= 127;
+    case ElementType::uint8: return value == std::trunc(value) && value >= 0 && value <= 255;
+    case ElementType::float64: break;
+  }
+  return true;
+}
+
+TypedValue typed(double value, ElementType type) {
+  TypedValue v;
+  v.d = value;
+  if (type != ElementType::float64 && !std::isnan(value)) {
+    v.i8 = static_cast<std::int8_t>(value);
+    v.u8 = static_cast<std::uint8_t>(value);
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Attributes. Strings are scalar, variable-length UTF-8: h5py (hence h5netcdf and xarray) returns
+// them as Python str whatever their length, whereas fixed-length strings of length one come back
+// as bytes.
+
+void write_attribute(hid_t object, const std::string& name, hid_t file_t, hid_t mem_t,
+                     hid_t space, const void* value, const std::string& path) {
+  const std::string what = "cannot write attribute '" + name + "'";
+  AttributeHandle attribute(
+      check(H5Acreate2(object, name.c_str(), file_t, space, H5P_DEFAULT, H5P_DEFAULT), path, what));
+  check(H5Awrite(attribute.get(), mem_t, value), path, what);
+  if (!attribute.close()) fail(path, what, hdf5_error_detail());
+}
+
+void write_text_attribute(hid_t object, const std::string& name, const std::string& value,
+                          const std::string& path) {
+  const std::string what = "cannot write attribute '" + name + "'";
+  TypeHandle type(check(H5Tcopy(H5T_C_S1), path, what));
+  check(H5Tset_size(type.get(), H5T_VARIABLE), path, what);
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), path, what);
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, what));
+  const char* text = value.c_str();
+  write_attribute(object, name, type.get(), type.get(), space.get(), &text, path);
+}
+
+void write_number_attribute(hid_t object, const std::string& name, double value,
+                            const std::string& path) {
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, "cannot write attribute '" + name + "'"));
+  write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, space.get(), &value, path);
+}
+
+// Scalar of the dataset's own type: CF wants _FillValue to match the variable exactly.
+void write_typed_attribute(hid_t object, const std::string& name, double value, ElementType type,
+                           const std::string& path) {
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, "cannot write attribute '" + name + "'"));
+  const TypedValue v = typed(value, type);
+  write_attribute(object, name, file_type(type), memory_type(type), space.get(), v.pointer(type),
+                  path);
+}
+
+// 1-D array of the dataset's own type (CF: flag_values has the variable's type).
+void write_flag_values(hid_t object, const std::vector<int>& values, ElementType type,
+                       const std::string& path) {
+  const std::string what = "cannot write attribute 'flag_values'";
+  const hsize_t n = values.size();
+  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), path, what));
+  std::vector<double> d(values.begin(), values.end());
+  std::vector<std::int8_t> i8(values.begin(), values.end());
+  std::vector<std::uint8_t> u8(values.begin(), values.end());
+  const void* data = type == ElementType::int8    ? static_cast<const void*>(i8.data())
+                     : type == ElementType::uint8 ? static_cast<const void*>(u8.data())
+                                                  : static_cast<const void*>(d.data());
+  write_attribute(object, "flag_values", file_type(type), memory_type(type), space.get(), data,
+                  path);
+}
+
+void write_descriptive_attributes(hid_t object, const std::string& long_name,
+                                  const std::string& units, const std::string& path) {
+  if (!long_name.empty()) write_text_attribute(object, "long_name", long_name, path);
+  if (!units.empty()) write_text_attribute(object, "units", units, path);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chunking. Chunks of about 1 MiB: big enough for efficient parallel I/O, and equal to HDF5's
+// default chunk cache so a reader (h5py, xarray) holds a whole chunk. Filling from the last
+// dimension backwards keeps whole trailing rows (whole time series) inside one chunk.
+
+constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+
+std::vector<hsize_t> chunk_shape(const std::vector<hsize_t>& shape, std::size_t element_bytes) {
+  const hsize_t target = std::max<hsize_t>(1, kChunkBytes / element_bytes);
+  std::vector<hsize_t> chunk(shape.size(), 1);
+  hsize_t elements = 1;
+  for (std::size_t d = shape.size(); d-- > 0;) {
+    if (elements * shape[d] <= target) {
+      chunk[d] = shape[d];
+      elements *= shape[d];
+    } else {
+      chunk[d] = std::max<hsize_t>(1, target / elements);
+      break;  // leading dimensions stay at 1
+    }
+  }
+  return chunk;
+}
+
+std::size_t element_size(ElementType type) { return type == ElementType::float64 ? 8 : 1; }
+
+// ---------------------------------------------------------------------------------------------
+// Selections: a flat, row-major run of grid points [begin, end) as a few rectangular hyperslabs.
+
+struct Box {
+  std::vector<hsize_t> start;
+  std::vector<hsize_t> count;
+};
+
+// Appends boxes covering flat range [begin, end) of the sub-grid dims[level..], whose leading
+// indices (dims[0..level)) are fixed by `prefix`. Produces at most 2·(rank−level)−1 boxes: a
+// partial leading row (recursively), one block of whole rows, a partial trailing row
+// (recursively).
+void decompose(std::int64_t begin, std::int64_t end, const std::vector<hsize_t>& dims,
+               std::size_t level, std::vector<hsize_t>& prefix, std::vector<Box>& boxes) {
+  if (begin >= end) return;
+  std::int64_t row = 1;  // points per index of dims[level]
+  for (std::size_t d = level + 1; d < dims.size(); ++d) row *= static_cast<std::int64_t>(dims[d]);
+
+  const auto emit_rows = [&](std::int64_t first, std::int64_t count) {
+    Box box;
+    box.start = prefix;
+    box.count.assign(prefix.size(), 1);
+    box.start.push_back(static_cast<hsize_t>(first));
+    box.count.push_back(static_cast<hsize_t>(count));
+    for (std::size_t d = level + 1; d < dims.size(); ++d) {
+      box.start.push_back(0);
+      box.count.push_back(dims[d]);
+    }
+    boxes.push_back(std::move(box));
+  };
+  const auto recurse_in_row = [&](std::int64_t r, std::int64_t b, std::int64_t e) {
+    prefix.push_back(static_cast<hsize_t>(r));
+    decompose(b, e, dims, level + 1, prefix, boxes);
+    prefix.pop_back();
+  };
+
+  if (row == 1) {  // last grid dimension: the range is already one box
+    emit_rows(begin, end - begin);
+    return;
+  }
+  std::int64_t first_row = begin / row;
+  const std::int64_t last_row = (end - 1) / row;
+  if (first_row == last_row && !(begin % row == 0 && end % row == 0)) {
+    recurse_in_row(first_row, begin % row, end - first_row * row);
+    return;
+  }
+  if (begin % row != 0) {
+    recurse_in_row(first_row, begin % row, row);
+    ++first_row;
+  }
+  const std::int64_t full_end = end / row;  // rows [first_row, full_end) are whole
+  if (full_end > first_row) emit_rows(first_row, full_end - first_row);
+  if (end % row != 0) recurse_in_row(full_end, 0, end % row);
+}
+
+// Ranges that touch are merged first: fewer boxes, and a contiguous rank block becomes one box.
+std::vector<PointRange> merged(const std::vector<PointRange>& ranges) {
+  std::vector<PointRange> out;
+  for (const PointRange& r : ranges) {
+    if (r.begin == r.end) continue;
+    if (!out.empty() && out.back().end == r.begin) {
+      out.back().end = r.end;
+    } else {
+      out.push_back(r);
+    }
+  }
+  return out;
+}
+
+// The file selection is visited in row-major order whatever order the boxes are added in;
+// because the runs are sorted, that is exactly the order of the caller's data buffer.
+void select_runs(hid_t file_space, const std::vector<PointRange>& runs,
+                 const std::vector<hsize_t>& grid_dims, bool has_time_dim, hsize_t time_length,
+                 const std::string& path, const std::string& what) {
+  std::vector<Box> boxes;
+  std::vector<hsize_t> prefix;
+  for (const PointRange& r : runs) decompose(r.begin, r.end, grid_dims, 0, prefix, boxes);
+  H5S_seloper_t op = H5S_SELECT_SET;
+  for (Box& box : boxes) {
+    if (has_time_dim) {  // the whole time series of every selected point
+      box.start.push_back(0);
+      box.count.push_back(time_length);
+    }
+    check(H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(),
+                              nullptr),
+          path, what);
+    op = H5S_SELECT_OR;
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+struct OutputFile::Impl {
+  struct Dataset {
+    DatasetSpec spec;
+    DatasetHandle handle;
+  };
+
+  std::string final_path;
+  std::string partial_path;
+  MPI_Comm comm = MPI_COMM_NULL;  // our duplicate: our collectives never mix with the caller's
+  int rank = 0;
+  std::vector<hsize_t> grid_dims;  // axis lengths, first slowest
+  std::int64_t points = 1;         // product of grid_dims (1: a single trajectory)
+  hsize_t time_length = 0;
+  FileHandle file;
+  std::vector<DatasetHandle> coordinates;  // axes..., then t
+  std::vector<Dataset> datasets;
+  PropertyHandle collective_transfer;
+  bool committed = false;
+
+  [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
+    fail(partial_path, what, std::move(detail));
+  }
+
+  void validate(const FileLayout& layout) const;
+  void create_file(const FileLayout& layout);
+  PropertyHandle dataset_creation_properties(const std::vector<hsize_t>& shape, ElementType type,
+                                             std::optional<double> fill) const;
+  DatasetHandle create_coordinate(const CoordinateSpec& coordinate, int dim_id);
+  void create_dataset(const DatasetSpec& spec);
+  void write_selected(hid_t dataset, hid_t mem_type, hid_t file_space, hid_t mem_space,
+                      const void* data, const std::string& name) const;
+  std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
+  const Dataset* find(const std::string& name) const;
+  std::string request_problem(const std::string& name,
+                              const std::vector<PointRange>& ranges) const;
+  void create(const FileLayout& layout);
+  void write(const Dataset& target, const std::vector<PointRange>& ranges,
+             const void* data) const;
+  bool close_all();
+  void abandon() noexcept;
+  ~Impl();
+};
+
+void OutputFile::Impl::validate(const FileLayout& layout) const {
+  std::set<std::string> names;
+  const auto add_name = [&](const std::string& name) {
+    if (name.empty()) fail_here("a dataset or axis has an empty name");
+    if (name.find('/') != std::string::npos) fail_here("name '" + name + "' contains '/'");
+    if (!names.insert(name).second) fail_here("name '" + name + "' is used twice");
+  };
+  for (const CoordinateSpec& axis : layout.axes) {
+    add_name(axis.name);
+    if (axis.values.empty()) fail_here("axis '" + axis.name + "' has no values");
+  }
+  if (layout.time) add_name(layout.time->name);
+  for (const DatasetSpec& spec : layout.datasets) {
+    add_name(spec.name);
+    if (spec.has_time_dim && !layout.time) {
+      fail_here("dataset '" + spec.name + "' has a time dimension but the layout has no time");
+    }
+    for (int flag : spec.flag_values) {
+      if (!representable(flag, spec.type)) {
+        fail_here("flag value " + std::to_string(flag) + " of '" + spec.name +
+                  "' does not fit its type");
+      }
+    }
+    if (spec.fill_value && !representable(*spec.fill_value, spec.type)) {
+      fail_here("fill value of '" + spec.name + "' does not fit its type");
+    }
+  }
+}
+
+std::vector<hsize_t> OutputFile::Impl::shape_of(const DatasetSpec& spec) const {
+  std::vector<hsize_t> shape = grid_dims;
+  if (spec.has_time_dim) shape.push_back(time_length);
+  return shape;
+}
+
+PropertyHandle OutputFile::Impl::dataset_creation_properties(const std::vector<hsize_t>& shape,
+                                                             ElementType type,
+                                                             std::optional<double> fill) const {
+  const std::string what = "cannot set up dataset creation properties";
+  PropertyHandle dcpl(check(H5Pcreate(H5P_DATASET_CREATE), partial_path, what));
+  // No timestamps in object headers: two identical runs give byte-identical files.
+  check(H5Pset_obj_track_times(dcpl.get(), false), partial_path, what);
+  const hsize_t elements =
+      std::accumulate(shape.begin(), shape.end(), hsize_t{1}, std::multiplies<>());
+  // Scalars cannot be chunked, and chunk dims must not exceed fixed zero-length dims.
+  if (!shape.empty() && elements > 0) {
+    const std::vector<hsize_t> chunk = chunk_shape(shape, element_size(type));
+    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), partial_path,
+          what);
+  }
+  if (fill) {
+    const TypedValue v = typed(*fill, type);
+    check(H5Pset_fill_value(dcpl.get(), memory_type(type), v.pointer(type)), partial_path, what);
+  }
+  return dcpl;
+}
+
+void OutputFile::Impl::create_file(const FileLayout& layout) {
+  const std::string what = "cannot create the file";
+  PropertyHandle fapl(check(H5Pcreate(H5P_FILE_ACCESS), partial_path, what));
+  check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), partial_path, what);
+  PropertyHandle fcpl(check(H5Pcreate(H5P_FILE_CREATE), partial_path, what));
+  check(H5Pset_obj_track_times(fcpl.get(), false), partial_path, what);  // root group
+  // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
+  check(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
+        partial_path, what);
+  file = FileHandle(
+      check(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), partial_path,
+            what));
+  for (const auto& [name, value] : layout.text_attributes) {
+    write_text_attribute(file.get(), name, value, partial_path);
+  }
+  for (const auto& [name, value] : layout.number_attributes) {
+    write_number_attribute(file.get(), name, value, partial_path);
+  }
+}
+
+// A 1-D float64 dataset named as its dimension, made a dimension scale: this is what netCDF-4
+// (and so h5netcdf/xarray) reads as a dimension with a coordinate variable.
+DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordinate, int dim_id) {
+  const std::string what = "cannot create coordinate '" + coordinate.name + "'";
+  const hsize_t n = coordinate.values.size();
+  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), partial_path, what));
+  PropertyHandle dcpl = dataset_creation_properties({n}, ElementType::float64, std::nullopt);
+  DatasetHandle dataset(check(H5Dcreate2(file.get(), coordinate.name.c_str(), H5T_IEEE_F64LE,
+                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                              partial_path, what));
+  // Every rank holds the same values; rank 0 alone writes them, the others take part empty.
+  SpaceHandle file_space(check(H5Dget_space(dataset.get()), partial_path, what));
+  SpaceHandle mem_space(check(H5Screate_simple(1, &n, nullptr), partial_path, what));
+  if (rank != 0 || n == 0) {
+    check(H5Sselect_none(file_space.get()), partial_path, what);
+    check(H5Sselect_none(mem_space.get()), partial_path, what);
+  }
+  write_selected(dataset.get(), H5T_NATIVE_DOUBLE, file_space.get(), mem_space.get(),
+                 coordinate.values.data(), coordinate.name);
+  check(H5DSset_scale(dataset.get(), coordinate.name.c_str()), partial_path, what);
+  // netCDF-C numbers dimensions by this (h5netcdf hides it); harmless for other readers.
+  const int id = dim_id;
+  SpaceHandle scalar(check(H5Screate(H5S_SCALAR), partial_path, what));
+  write_attribute(dataset.get(), "_Netcdf4Dimid", H5T_STD_I32LE, H5T_NATIVE_INT, scalar.get(), &id,
+                  partial_path);
+  write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units,
+                               partial_path);
+  return dataset;
+}
+
+void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
+  const std::string what = "cannot create dataset '" + spec.name + "'";
+  const std::vector<hsize_t> shape = shape_of(spec);
+  SpaceHandle space(check(shape.empty() ? H5Screate(H5S_SCALAR)
+                                        : H5Screate_simple(static_cast<int>(shape.size()),
+                                                           shape.data(), nullptr),
+                          partial_path, what));
+  std::optional<double> fill = spec.fill_value;
+  if (!fill && spec.type == ElementType::float64) fill = std::numeric_limits<double>::quiet_NaN();
+  PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, fill);
+  DatasetHandle dataset(check(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
+                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                              partial_path, what));
+  for (std::size_t d = 0; d < grid_dims.size(); ++d) {
+    check(H5DSattach_scale(dataset.get(), coordinates[d].get(), static_cast<unsigned>(d)),
+          partial_path, what + ": cannot attach its dimension scale");
+  }
+  if (spec.has_time_dim) {
+    check(H5DSattach_scale(dataset.get(), coordinates.back().get(),
+                           static_cast<unsigned>(grid_dims.size())),
+          partial_path, what + ": cannot attach the time scale");
+  }
+  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, partial_path);
+  if (!spec.flag_values.empty()) {
+    write_flag_values(dataset.get(), spec.flag_values, spec.type, partial_path);
+  }
+  if (!spec.flag_meanings.empty()) {
+    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, partial_path);
+  }
+  if (spec.fill_value) {
+    write_typed_attribute(dataset.get(), "_FillValue", *spec.fill_value, spec.type, partial_path);
+  }
+  datasets.push_back(Dataset{spec, std::move(dataset)});
+}
+
+void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
+                                      hid_t mem_space, const void* data,
+                                      const std::string& name) const {
+  check(H5Dwrite(dataset, mem_type, mem_space, file_space, collective_transfer.get(), data),
+        partial_path, "cannot write dataset '" + name + "'");
+}
+
+const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name) const {
+  for (const Dataset& d : datasets) {
+    if (d.spec.name == name) return &d;
+  }
+  return nullptr;
+}
+
+// Closes datasets before the file: the MPI-IO driver refuses to close a file with open objects.
+bool OutputFile::Impl::close_all() {
+  bool ok = true;
+  for (Dataset& d : datasets) ok = d.handle.close() && ok;
+  for (DatasetHandle& c : coordinates) ok = c.close() && ok;
+  ok = collective_transfer.close() && ok;
+  ok = file.close() && ok;
+  return ok;
+}
+
+// Collective, never throws: the path of every failure (constructor, commit, a destructor called
+// while an exception unwinds) ends here, so nothing is left under either name.
+void OutputFile::Impl::abandon() noexcept {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (finalized) return;  // nothing collective is possible any more
+  close_all();
+  if (rank == 0) {
+    std::error_code ignored;
+    std::filesystem::remove(partial_path, ignored);
+  }
+  MPI_Barrier(comm);  // no rank returns while the temporary can still be seen
+}
+
+OutputFile::Impl::~Impl() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized && comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
+}
+
+// Empty when this rank's request is well formed, else the reason.
+std::string OutputFile::Impl::request_problem(const std::string& name,
+                                              const std::vector<PointRange>& ranges) const {
+  if (committed) return final_path + ": write of '" + name + "' after commit";
+  if (find(name) == nullptr) return partial_path + ": no dataset named '" + name + "'";
+  std::int64_t previous_end = 0;
+  for (const PointRange& r : ranges) {
+    if (r.begin < previous_end || r.end < r.begin || r.end > points) {
+      return partial_path + ": point ranges for '" + name +
+             "' are not sorted, disjoint and inside [0, " + std::to_string(points) + ")";
+    }
+    previous_end = r.end;
+  }
+  return {};
+}
+
+void OutputFile::Impl::create(const FileLayout& layout) {
+  validate(layout);  // the same layout on every rank, so every rank throws alike
+  for (const CoordinateSpec& axis : layout.axes) {
+    grid_dims.push_back(axis.values.size());
+    points *= static_cast<std::int64_t>(axis.values.size());
+  }
+  if (layout.time) time_length = layout.time->values.size();
+
+  // A stale temporary from a killed run may be anything (read-only, even a directory); start
+  // from nothing rather than let H5F_ACC_TRUNC trip over it.
+  on_rank0_agreed(comm, partial_path, "cannot remove the stale temporary file",
+                  [&] { std::filesystem::remove(partial_path); });
+
+  collective_transfer =
+      PropertyHandle(check(H5Pcreate(H5P_DATASET_XFER), partial_path, "cannot set up writes"));
+  check(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), partial_path,
+        "cannot set up collective writes");
+
+  create_file(layout);
+  int dim_id = 0;
+  for (const CoordinateSpec& axis : layout.axes) {
+    coordinates.push_back(create_coordinate(axis, dim_id++));
+  }
+  if (layout.time) coordinates.push_back(create_coordinate(*layout.time, dim_id++));
+  for (const DatasetSpec& spec : layout.datasets) create_dataset(spec);
+}
+
+void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange>& ranges,
+                             const void* data) const {
+  const std::string what = "cannot select the points of '" + target.spec.name + "'";
+  const std::vector<PointRange> runs = merged(ranges);
+  std::int64_t selected_points = 0;
+  for (const PointRange& r : runs) selected_points += r.end - r.begin;
+  const hsize_t per_point = target.spec.has_time_dim ? time_length : 1;
+  const hsize_t elements = static_cast<hsize_t>(selected_points) * per_point;
+
+  SpaceHandle file_space(check(H5Dget_space(target.handle.get()), partial_path, what));
+  const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
+  SpaceHandle mem_space(check(H5Screate_simple(1, &mem_dims, nullptr), partial_path, what));
+  if (elements == 0) {
+    // Nothing to write here, but H5Dwrite is collective: take part with empty selections.
+    check(H5Sselect_none(mem_space.get()), partial_path, what);
+    check(H5Sselect_none(file_space.get()), partial_path, what);
+  } else if (grid_dims.empty()) {
+    check(H5Sselect_all(file_space.get()), partial_path, what);  // the single point
+  } else {
+    select_runs(file_space.get(), runs, grid_dims, target.spec.has_time_dim, time_length,
+                partial_path, what);
+  }
+  write_selected(target.handle.get(), memory_type(target.spec.type), file_space.get(),
+                 mem_space.get(), data, target.spec.name);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, MPI_Comm comm)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->final_path = final_path;
+  impl_->partial_path = final_path + ".partial";
+  // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  MPI_Comm_dup(comm, &impl_->comm);
+  MPI_Comm_rank(impl_->comm, &impl_->rank);
+  try {
+    impl_->create(layout);
+  } catch (...) {
+    impl_->abandon();  // the destructor does not run for a constructor that throws
+    throw;
+  }
+}
+
+OutputFile::~OutputFile() {
+  if (impl_ && !impl_->committed) impl_->abandon();
+}
+
+void OutputFile::write(const std::string& dataset, const std::vector<PointRange>& ranges,
+                       const void* data) {
+  // A bad request on one rank must not leave the others waiting inside H5Dwrite.
+  const std::string problem = impl_->request_problem(dataset, ranges);
+  if (!all_ok(problem.empty(), impl_->comm)) {
+    throw std::runtime_error(problem.empty() ? impl_->partial_path + ": write of '" + dataset +
+                                                   "' refused on another rank"
+                                             : problem);
+  }
+  impl_->write(*impl_->find(dataset), ranges, data);
+}
+
+void OutputFile::commit() {
+  Impl& s = *impl_;
+  if (s.committed) fail(s.final_path, "commit called twice");
+  if (!all_ok(s.close_all(), s.comm)) {
+    fail(s.partial_path, "cannot close the file", hdf5_error_detail());
+  }
+  // H5Fclose is collective, so every rank's data is in the file before the name appears.
+  on_rank0_agreed(s.comm, s.final_path, "cannot rename the finished file into place",
+                  [&] { std::filesystem::rename(s.partial_path, s.final_path); });
+  s.committed = true;
+}
+
+}  // namespace cs

@@ -1,0 +1,69 @@
+// A validated run: what a spec file (after --set overrides) asks for, with every default filled in
+// from the scene catalog. Everything downstream (engine, HDF5 writer) trusts it; all checking of
+// user input happens while building it (spec_parser.cpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace cs {
+
+// Bad user input (spec, command line): the program exits with status 2 and prints what().
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One grid axis: a scene parameter ("gamma") or an initial value ("q_0").
+struct GridAxis {
+  std::string name;            // as in the spec and as the HDF5 coordinate: "q_0", "gamma"
+  std::string target;          // parameter or variable it sets: "q", "gamma"
+  bool is_parameter = false;   // true: scene parameter; false: initial value of a variable
+  std::vector<double> values;  // numpy.linspace(from, to, n) bit for bit, or explicit values
+};
+
+struct FinalStateMeasure {
+  std::vector<std::string> vars;  // state variable names to store ("q", "p", "z", "lambda")
+};
+
+struct TrajectoryMeasure {
+  std::int64_t every = 1;         // sample every this many steps (t = 0 included)
+};
+
+struct BasinMeasure {
+  bool early_stop = true;
+};
+
+struct SyncMeasure {
+  double window_from = 0.0;
+  double window_to = 0.0;
+};
+
+struct Measures {
+  std::optional<FinalStateMeasure> final_state;
+  std::optional<TrajectoryMeasure> trajectory;
+  std::optional<BasinMeasure> basin;
+  std::optional<SyncMeasure> sync;
+};
+
+struct RunSpec {
+  std::string title;
+  std::string scene;                         // a name from scene_catalog()
+  std::map<std::string, double> parameters;  // every scene parameter (defaults filled in)
+  std::map<std::string, double> initial;     // every state variable (defaults filled in)
+  std::string method;                        // a name from method_catalog()
+  double h = 0.0;
+  double t_end = 0.0;
+  std::int64_t steps = 0;                    // t_end / h, a whole number (checked)
+  std::vector<GridAxis> axes;                // first varies slowest; empty: one trajectory
+  Measures measures;
+  std::string spec_text;                     // the TOML after --set, as stored in the output
+
+  std::int64_t grid_points() const;          // product of axis lengths (1 without axes)
+};
+
+}  // namespace cs

@@ -1,0 +1,24 @@
+// One lane's state (T = double) or one pack of lanes' state (T = a pack, engine/lane_pack.hpp)
+// as an integrator sees it. The kernel keeps it in registers for a block of steps.
+#pragma once
+
+namespace cs {
+
+template <int Dof, class T = double>
+struct LaneState {
+  T q[Dof];
+  T p[Dof];
+  T z;        // integrated only when the scene or a measure needs it
+  T mu;       // ln λ, integrated only when a measure needs it: λ itself overflows near
+              // t = 7100 for γ = 0.1, and p's update needs only ratios of λ
+  T kq[Dof];  // K_q at the current state, reused by the next step where K_q ignores p
+  T broken;   // > 0 once a λ factor 1 ± (h/2)K_z reached ≤ 0 (state-dependent K_z only)
+};
+
+// Which optional state a kernel instantiation integrates.
+struct Carry {
+  bool z;
+  bool mu;
+};
+
+}  // namespace cs

@@ -1,0 +1,21 @@
+// Run-time description of the integrators, for spec validation and `contactsweep methods`.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cs {
+
+struct MethodInfo {
+  std::string name;
+  int order;
+  std::string properties;        // one line for `contactsweep methods`
+  std::vector<std::string> needs_split_parts;  // empty: works on any scene
+  int force_evaluations_per_step;
+};
+
+const std::vector<MethodInfo>& method_catalog();
+const MethodInfo* find_method(std::string_view name);
+
+}  // namespace cs

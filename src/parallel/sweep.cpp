@@ -1,0 +1,161 @@
+#include "parallel/sweep.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "engine/run_plan.hpp"
+#include "io/output_file.hpp"
+#include "parallel/progress.hpp"
+#include "version.hpp"
+
+namespace cs {
+namespace {
+
+struct Comm {
+  MPI_Comm comm;
+  int rank = 0, size = 1;
+  explicit Comm(MPI_Comm c) : comm(c) {
+    MPI_Comm_rank(c, &rank);
+    MPI_Comm_size(c, &size);
+  }
+};
+
+// Blocks are the unit of load balance: several per thread so that dynamic scheduling can even
+// out lanes that stop early, large enough that refilling a tile keeps it full most of the time.
+std::int64_t choose_block_size(std::int64_t points, int ranks, int threads) {
+  std::int64_t target = points / (static_cast<std::int64_t>(ranks) * threads * 16);
+  return std::clamp<std::int64_t>(target, 256, 16384);
+}
+
+std::vector<PointRange> my_blocks(std::int64_t points, std::int64_t block, const Comm& c) {
+  std::vector<PointRange> blocks;
+  std::int64_t count = (points + block - 1) / block;
+  for (std::int64_t b = c.rank; b < count; b += c.size)
+    blocks.push_back({b * block, std::min(points, (b + 1) * block)});
+  return blocks;
+}
+
+FileLayout make_layout(const RunPlan& plan, const SweepOptions& options, const Comm& c) {
+  FileLayout layout;
+  for (const auto& axis : plan.spec.axes) {
+    std::string long_name;
+    if (axis.is_parameter) {
+      for (const auto& p : plan.scene.parameters)
+        if (p.name == axis.target) long_name = p.description;
+    } else {
+      long_name = "initial value of " + axis.target;
+    }
+    layout.axes.push_back({axis.name, axis.values, long_name, ""});
+  }
+  if (plan.samples > 0) layout.time = CoordinateSpec{"t", plan.sample_times, "time", "time"};
+  for (const auto& column : plan.columns) layout.datasets.push_back(column.dataset);
+  auto& text = layout.text_attributes;
+  text["title"] = plan.spec.title;
+  text["spec"] = plan.spec.spec_text;
+  text["scene"] = plan.scene.name;
+  text["hamiltonian"] = plan.scene.hamiltonian;
+  text["method"] = plan.method.name;
+  text["contactsweep_version"] = kVersion;
+  text["Conventions"] = "CF-1.8";
+  text["history"] = options.command_line;
+  auto& number = layout.number_attributes;
+  number["h"] = plan.spec.h;
+  number["t_end"] = plan.spec.t_end;
+  number["steps"] = static_cast<double>(plan.spec.steps);
+  number["mpi_ranks"] = c.size;
+  number["omp_threads"] = omp_get_max_threads();
+  return layout;
+}
+
+template <class T>
+std::vector<T> converted(const std::vector<double>& values) {
+  std::vector<T> out(values.size());
+  std::transform(values.begin(), values.end(), out.begin(),
+                 [](double v) { return static_cast<T>(v); });
+  return out;
+}
+
+void write_column(OutputFile& file, const ColumnSpec& spec, std::size_t index,
+                  const std::vector<std::unique_ptr<BlockResults>>& blocks) {
+  std::vector<PointRange> ranges;
+  std::vector<double> values;
+  for (const auto& b : blocks) {
+    ranges.push_back(b->range);
+    const auto& col = b->columns[index];
+    values.insert(values.end(), col.begin(), col.end());
+  }
+  switch (spec.dataset.type) {
+    case ElementType::float64: file.write(spec.dataset.name, ranges, values.data()); break;
+    case ElementType::int8: file.write(spec.dataset.name, ranges, converted<std::int8_t>(values).data()); break;
+    case ElementType::uint8: file.write(spec.dataset.name, ranges, converted<std::uint8_t>(values).data()); break;
+  }
+}
+
+std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& blocks, int column,
+                          LaneStatus status) {
+  std::int64_t n = 0;
+  for (const auto& b : blocks)
+    for (double v : b->columns[static_cast<std::size_t>(column)])
+      n += v == static_cast<double>(status);
+  return n;
+}
+
+}  // namespace
+
+SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm) {
+  Comm c(comm);
+  const SceneInfo* scene = find_scene(spec.scene);
+  const MethodInfo* method = find_method(spec.method);
+  RunPlan plan(spec, *scene, *method);
+  SweepSummary summary;
+  summary.points = plan.grid.size();
+
+  if (std::filesystem::exists(options.output) && !options.force) {
+    if (!options.resume)
+      throw InputError("output '" + options.output +
+                       "' exists; pass --force to replace it or --resume to continue it");
+    // TODO(resume): a finished file with the same spec is complete; continuing a killed run
+    // needs the tile journal (issue 5).
+    throw InputError("output '" + options.output +
+                     "' exists and --resume of finished outputs is not implemented yet; "
+                     "pass --force");
+  }
+
+  auto start = std::chrono::steady_clock::now();
+  int threads = omp_get_max_threads();
+  auto blocks = my_blocks(plan.grid.size(), choose_block_size(plan.grid.size(), c.size, threads), c);
+  std::int64_t local_points = 0;
+  for (const auto& b : blocks) local_points += b.end - b.begin;
+  ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
+                            !options.quiet && c.rank == 0);
+
+  std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    results[i] = std::make_unique<BlockResults>(blocks[i], plan.columns);
+    run_block(plan, *results[i]);
+    progress.add(blocks[i].end - blocks[i].begin);
+  }
+
+  OutputFile file(options.output, make_layout(plan, options, c), comm);
+  for (std::size_t k = 0; k < plan.columns.size(); ++k)
+    write_column(file, plan.columns[k], k, results);
+  file.commit();
+
+  std::int64_t local[2] = {count_status(results, plan.map.status, LaneStatus::diverged),
+                           count_status(results, plan.map.status, LaneStatus::breakdown)};
+  std::int64_t global[2];
+  MPI_Allreduce(local, global, 2, MPI_INT64_T, MPI_SUM, comm);
+  summary.flagged_diverged = global[0];
+  summary.flagged_breakdown = global[1];
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace cs

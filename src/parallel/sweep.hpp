@@ -1,0 +1,35 @@
+// The parallel driver: cuts the grid into blocks of points, deals them to MPI ranks
+// round-robin and to OpenMP threads dynamically, and writes every rank's blocks into one HDF5
+// file collectively. Blocks hold whole lanes, and a lane's result depends on nothing but its
+// own point, so the file has the same bits for any number of ranks and threads.
+#pragma once
+
+#include <mpi.h>
+
+#include <string>
+
+#include "io/run_spec.hpp"
+
+namespace cs {
+
+struct SweepOptions {
+  std::string output;   // final path of the HDF5 file
+  bool force = false;   // replace an existing output
+  bool resume = false;  // continue this very run if its output exists
+  bool quiet = false;   // no progress reports
+  std::string command_line;  // for the `history` attribute
+};
+
+struct SweepSummary {
+  std::int64_t points = 0;
+  std::int64_t flagged_diverged = 0;
+  std::int64_t flagged_breakdown = 0;
+  double seconds = 0.0;
+  bool already_complete = false;
+};
+
+// Collective over `comm`. Throws InputError for an output that must not be overwritten,
+// std::runtime_error for I/O failures.
+SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm);
+
+}  // namespace cs

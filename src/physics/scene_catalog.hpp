@@ -1,0 +1,44 @@
+// What the edge of the program (spec validation, `contactsweep scenes`, HDF5 attributes) needs
+// to know about a scene at run time. The compile-time side of a scene (its K) lives in the
+// scene's own header; both are tied together by one registration in scene_catalog.cpp.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cs {
+
+struct ParameterInfo {
+  std::string name;
+  double paper_value;  // the default: the value printed in the paper
+  std::string description;
+};
+
+struct VariableInfo {
+  std::string name;          // as written in [initial] and in dataset names: q, p1, z, lambda
+  double paper_value;        // default initial value
+  std::string description;
+};
+
+struct SceneInfo {
+  std::string name;          // spec name: damped_oscillator, ...
+  std::string paper_label;   // "A".."D"
+  std::string hamiltonian;   // K written out, for `contactsweep scenes` and the file's attributes
+  int dof;                   // degrees of freedom: number of (q, p) pairs
+  std::vector<ParameterInfo> parameters;
+  std::vector<VariableInfo> variables;   // q..., p..., z, lambda
+  std::vector<std::string> measures;     // measures this scene supports
+  std::vector<std::string> split_parts;  // exact sub-flows it offers to splitting methods
+  bool z_feeds_back;         // does z enter the (q, p) dynamics?
+  double default_h;
+  double default_t_end;
+};
+
+const std::vector<SceneInfo>& scene_catalog();
+
+// nullptr when no scene has that name.
+const SceneInfo* find_scene(std::string_view name);
+
+}  // namespace cs

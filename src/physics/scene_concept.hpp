@@ -1,0 +1,73 @@
+// The scene concept: what a physical system provides so that the kernel can integrate it.
+//
+// A scene is a type S with
+//   static constexpr int dof;              number of (q, p) pairs
+//   static constexpr bool z_feeds_back;    does z enter K_q, K_p or K_z? If not, the kernel
+//                                          carries z only when a measure asks for it.
+//   static constexpr bool kz_constant;     is K_z a constant? Then the λ factors need no log.
+//   template <class T> struct Params;      its parameters; T is double or a pack of lanes
+//   template <class T> static Params<T> params_from(const T* values);   in catalog order
+//   template <class X, class T> static auto K(const X& x, const Params<T>&);
+//        the contact Hamiltonian, written once, reading the state through q<i>(x), p<i>(x), z(x)
+//   static bool diverged(const double* q, const double* p);   past the scene's bound?
+// and optionally static constexpr bool p_in_forces = true when K_q or K_z depend on p.
+//
+// Partials are never written by hand: partials.hpp evaluates K on a state view in which exactly
+// one variable is a dual number, so K_q, K_p and K_z come from one formula, and a term that does
+// not depend on the seeded variable stays a plain number that costs nothing.
+// The run-time description (names, defaults, the paper's values) is in scene_catalog.cpp.
+#pragma once
+
+#include <concepts>
+
+#include "physics/dual.hpp"
+
+namespace cs {
+
+// The variable a state view seeds with derivative 1; all others are plain numbers.
+enum class Seed { none, q, p, z };
+
+// A read-only view of one lane's (or one pack's) state; `I` is the seeded degree of freedom.
+template <class T, Seed S = Seed::none, int I = 0>
+struct StateView {
+  const T* q;
+  const T* p;
+  T z;
+};
+
+template <int i, class T, Seed S, int I>
+constexpr auto q(const StateView<T, S, I>& x) {
+  if constexpr (S == Seed::q && I == i) return Dual<T>{x.q[i], T{} + 1.0};
+  else return x.q[i];
+}
+template <int i, class T, Seed S, int I>
+constexpr auto p(const StateView<T, S, I>& x) {
+  if constexpr (S == Seed::p && I == i) return Dual<T>{x.p[i], T{} + 1.0};
+  else return x.p[i];
+}
+template <class T, Seed S, int I>
+constexpr auto z(const StateView<T, S, I>& x) {
+  if constexpr (S == Seed::z) return Dual<T>{x.z, T{} + 1.0};
+  else return x.z;
+}
+
+template <class S>
+concept Scene = requires(const double* x, typename S::template Params<double> prm) {
+  { S::dof } -> std::convertible_to<int>;
+  { S::z_feeds_back } -> std::convertible_to<bool>;
+  { S::kz_constant } -> std::convertible_to<bool>;
+  { S::params_from(x) } -> std::same_as<typename S::template Params<double>>;
+  { S::K(StateView<double>{x, x, 0.0}, prm) } -> std::convertible_to<double>;
+  { S::diverged(x, x) } -> std::same_as<bool>;
+};
+
+template <Scene S>
+constexpr bool p_in_forces() {
+  if constexpr (requires { S::p_in_forces; }) return S::p_in_forces;
+  else return false;
+}
+
+template <Scene S, class T>
+using ParamsOf = typename S::template Params<T>;
+
+}  // namespace cs

@@ -1,0 +1,595 @@
+// OutputFile under MPI: ranks write interleaved, ragged point ranges collectively; rank 0 reads
+// the committed file back with plain serial HDF5 and checks every cell against a function of its
+// flat index, the dimension scales, the attributes and the temporary-file protocol.
+//
+// Every test does its collective work first and its rank-0 assertions last, so a failing check
+// cannot leave other ranks waiting in a collective call.
+//
+// The main file (and a scalar one next to it) are kept for tests/test_xarray_open.py: their path is
+// $CONTACTSWEEP_TEST_OUT, default /tmp/contactsweep_output_test_np<ranks>.h5.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <hdf5_hl.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "io/output_file.hpp"
+
+namespace {
+
+using cs::CoordinateSpec;
+using cs::DatasetSpec;
+using cs::ElementType;
+using cs::FileLayout;
+using cs::OutputFile;
+using cs::PointRange;
+
+int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int world_size() {
+  int size = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+// Rank-count dependent default, so np1 and np2 runs can go side by side.
+std::string output_path() {
+  if (const char* path = std::getenv("CONTACTSWEEP_TEST_OUT"); path != nullptr && *path != '\0') {
+    return path;
+  }
+  return "/tmp/contactsweep_output_test_np" + std::to_string(world_size()) + ".h5";
+}
+
+// Another file next to the main one: "<dir>/<stem>_<tag>.h5".
+std::string sibling_path(const std::string& tag) {
+  const std::filesystem::path main(output_path());
+  return (main.parent_path() / (main.stem().string() + "_" + tag + ".h5")).string();
+}
+
+bool exists(const std::string& path) { return std::filesystem::exists(path); }
+
+void remove_on_rank0(const std::string& path) {
+  if (world_rank() == 0) {
+    std::filesystem::remove(path);
+    std::filesystem::remove(path + ".partial");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+std::vector<double> linspace(double from, double to, int n) {
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = from + (to - from) * i / (n - 1);
+  return v;
+}
+
+// Blocks of sizes 1, 2, ..., max_block, 1, 2, ... dealt round-robin to the ranks: ragged,
+// interleaved, and (at np 1) adjacent, so both merging and every kind of row boundary occur.
+std::vector<PointRange> ragged_ranges(std::int64_t points, int rank, int size, int max_block) {
+  std::vector<PointRange> mine;
+  std::int64_t begin = 0;
+  for (int block = 0; begin < points; ++block) {
+    const std::int64_t end = std::min<std::int64_t>(points, begin + 1 + block % max_block);
+    if (block % size == rank) mine.push_back({begin, end});
+    begin = end;
+  }
+  return mine;
+}
+
+// Like ragged_ranges, but only every other block is written (dealt round-robin among the ranks):
+// gaps between ranges whatever the rank count, so even np 1 sees ranges that start and end
+// inside rows. written_in_gappy() tells which points those are.
+std::vector<PointRange> gappy_ranges(std::int64_t points, int rank, int size, int max_block) {
+  std::vector<PointRange> mine;
+  std::int64_t begin = 0;
+  int kept = 0;
+  for (int block = 0; begin < points; ++block) {
+    const std::int64_t end = std::min<std::int64_t>(points, begin + 1 + block % max_block);
+    if (block % 2 == 1 && kept++ % size == rank) mine.push_back({begin, end});
+    begin = end;
+  }
+  return mine;
+}
+
+bool written_in_gappy(std::int64_t point, int max_block) {
+  std::int64_t begin = 0;
+  for (int block = 0;; ++block) {
+    const std::int64_t end = begin + 1 + block % max_block;
+    if (point < end) return block % 2 == 1;
+    begin = end;
+  }
+}
+
+// One contiguous share per rank, as a block distribution would give.
+std::vector<PointRange> block_ranges(std::int64_t points, int rank, int size) {
+  const std::int64_t begin = points * rank / size;
+  const std::int64_t end = points * (rank + 1) / size;
+  if (begin == end) return {};
+  return {{begin, end}};
+}
+
+// The part of `ranges` below `limit`.
+std::vector<PointRange> clipped(const std::vector<PointRange>& ranges, std::int64_t limit) {
+  std::vector<PointRange> out;
+  for (PointRange r : ranges) {
+    r.end = std::min(r.end, limit);
+    if (r.begin < r.end) out.push_back(r);
+  }
+  return out;
+}
+
+// Values of `ranges` back to back, `per_point` consecutive values per point.
+template <typename T>
+std::vector<T> values_for(const std::vector<PointRange>& ranges, std::int64_t per_point,
+                          const std::function<T(std::int64_t, std::int64_t)>& f) {
+  std::vector<T> out;
+  for (const PointRange& r : ranges) {
+    for (std::int64_t i = r.begin; i < r.end; ++i) {
+      for (std::int64_t j = 0; j < per_point; ++j) out.push_back(f(i, j));
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Serial read-back helpers (rank 0).
+
+struct Reader {
+  hid_t file = H5I_INVALID_HID;
+  explicit Reader(const std::string& path) {
+    file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  }
+  ~Reader() {
+    if (file >= 0) H5Fclose(file);
+  }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+};
+
+std::vector<hsize_t> shape_of(hid_t file, const std::string& name) {
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(dataset);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  H5Sclose(space);
+  H5Dclose(dataset);
+  return dims;
+}
+
+template <typename T>
+std::vector<T> read_all(hid_t file, const std::string& name, hid_t mem_type) {
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(dataset);
+  std::vector<T> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  const herr_t status = H5Dread(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  H5Sclose(space);
+  H5Dclose(dataset);
+  if (status < 0) out.clear();
+  return out;
+}
+
+// A scalar string attribute, fixed or variable length; "<missing>" when absent.
+std::string text_attribute(hid_t object, const std::string& name) {
+  if (H5Aexists(object, name.c_str()) <= 0) return "<missing>";
+  const hid_t attribute = H5Aopen(object, name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Aget_type(attribute);
+  std::string out = "<not a string>";
+  if (H5Tget_class(type) == H5T_STRING && H5Tis_variable_str(type) > 0) {
+    char* text = nullptr;
+    const hid_t mem = H5Tget_native_type(type, H5T_DIR_ASCEND);
+    if (H5Aread(attribute, mem, &text) >= 0 && text != nullptr) {
+      out = text;
+      H5free_memory(text);
+    }
+    H5Tclose(mem);
+  } else if (H5Tget_class(type) == H5T_STRING) {
+    std::vector<char> text(H5Tget_size(type) + 1, '\0');
+    if (H5Aread(attribute, type, text.data()) >= 0) out = text.data();
+  }
+  H5Tclose(type);
+  H5Aclose(attribute);
+  return out;
+}
+
+// True when attribute `name` of `object` has exactly file type `expected` and `count` elements.
+bool attribute_has_type(hid_t object, const std::string& name, hid_t expected, hssize_t count) {
+  if (H5Aexists(object, name.c_str()) <= 0) return false;
+  const hid_t attribute = H5Aopen(object, name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Aget_type(attribute);
+  const hid_t space = H5Aget_space(attribute);
+  const bool ok = H5Tequal(type, expected) > 0 && H5Sget_simple_extent_npoints(space) == count;
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Aclose(attribute);
+  return ok;
+}
+
+template <typename T>
+std::vector<T> attribute_values(hid_t object, const std::string& name, hid_t mem_type) {
+  const hid_t attribute = H5Aopen(object, name.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Aget_space(attribute);
+  std::vector<T> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  H5Aread(attribute, mem_type, out.data());
+  H5Sclose(space);
+  H5Aclose(attribute);
+  return out;
+}
+
+// Names of the scales attached to each dimension of `name`, checked with H5DSis_attached.
+void expect_scales(hid_t file, const std::string& name, const std::vector<std::string>& scales) {
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  ASSERT_GE(dataset, 0) << name;
+  for (std::size_t d = 0; d < scales.size(); ++d) {
+    const hid_t scale = H5Dopen2(file, scales[d].c_str(), H5P_DEFAULT);
+    EXPECT_GT(H5DSis_scale(scale), 0) << scales[d];
+    EXPECT_GT(H5DSis_attached(dataset, scale, static_cast<unsigned>(d)), 0)
+        << scales[d] << " on dim " << d << " of " << name;
+    EXPECT_EQ(H5DSget_num_scales(dataset, static_cast<unsigned>(d)), 1) << name << " dim " << d;
+    H5Dclose(scale);
+  }
+  H5Dclose(dataset);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 2-axis layout (7 x 5, neither divisible by the rank counts or block sizes) with a time axis.
+
+constexpr std::int64_t kNq = 7;
+constexpr std::int64_t kNgamma = 5;
+constexpr std::int64_t kNt = 4;
+constexpr std::int64_t kPoints = kNq * kNgamma;
+
+double final_q(std::int64_t i, std::int64_t) { return 0.25 * static_cast<double>(i) - 3.0; }
+double traj_q(std::int64_t i, std::int64_t j) { return 100.0 * static_cast<double>(i) + j; }
+double settle_time(std::int64_t i, std::int64_t) { return 1.5 * static_cast<double>(i); }
+std::uint8_t status_of(std::int64_t i, std::int64_t) { return static_cast<std::uint8_t>(i % 3); }
+std::int8_t basin_of(std::int64_t i, std::int64_t) { return static_cast<std::int8_t>(i % 3 - 1); }
+
+FileLayout grid_layout() {
+  FileLayout layout;
+  layout.axes.push_back({"q_0", linspace(-3.0, 3.0, kNq), "initial value of q", ""});
+  layout.axes.push_back({"gamma", linspace(0.1, 0.5, kNgamma), "damping coefficient", ""});
+  layout.time = CoordinateSpec{"t", linspace(0.0, 1.5, kNt), "time", "1"};
+  layout.datasets.push_back({"final_q", ElementType::float64, false, "q at t_end", "", {}, "", {}});
+  layout.datasets.push_back({"traj_q", ElementType::float64, true, "q along the trajectory", "",
+                             {}, "", {}});
+  layout.datasets.push_back({"settle_time", ElementType::float64, false, "settling time", "1",
+                             {}, "", {}});
+  layout.datasets.push_back({"status", ElementType::uint8, false, "integration status", "",
+                             {0, 1, 2}, "ok diverged breakdown", {}});
+  layout.datasets.push_back({"basin", ElementType::int8, false, "basin of attraction", "",
+                             {-1, 0, 1}, "left_well undecided right_well", {}});
+  layout.datasets.push_back({"label", ElementType::int8, false, "partly written label", "",
+                             {-1, 1}, "minus plus", -128.0});
+  layout.text_attributes = {{"title", "OutputFile test"}, {"Conventions", "CF-1.8"},
+                            {"empty", ""}, {"x", "1"}};
+  layout.number_attributes = {{"h", 0.01}, {"t_end", 1.5}};
+  return layout;
+}
+
+// Writes every dataset of grid_layout(): settle_time and label only on the first half of the
+// points, so the fill values must show in the other half.
+void write_grid_file(const std::string& path) {
+  const std::vector<PointRange> mine =
+      ragged_ranges(kPoints, world_rank(), world_size(), /*max_block=*/4);
+  const std::vector<PointRange> half = clipped(mine, kPoints / 2);
+  OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+  out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
+  out.write("traj_q", mine, values_for<double>(mine, kNt, traj_q).data());
+  out.write("settle_time", half, values_for<double>(half, 1, settle_time).data());
+  out.write("status", mine, values_for<std::uint8_t>(mine, 1, status_of).data());
+  out.write("basin", mine, values_for<std::int8_t>(mine, 1, basin_of).data());
+  out.write("label", half, values_for<std::int8_t>(half, 1, basin_of).data());
+  out.commit();
+}
+
+TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
+  const std::string path = output_path();
+  remove_on_rank0(path);
+  write_grid_file(path);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_TRUE(exists(path)) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
+  if (world_rank() != 0) return;
+
+  Reader r(path);
+  ASSERT_GE(r.file, 0) << path;
+  EXPECT_EQ(shape_of(r.file, "final_q"), (std::vector<hsize_t>{kNq, kNgamma}));
+  EXPECT_EQ(shape_of(r.file, "traj_q"), (std::vector<hsize_t>{kNq, kNgamma, kNt}));
+  EXPECT_EQ(read_all<double>(r.file, "q_0", H5T_NATIVE_DOUBLE), linspace(-3.0, 3.0, kNq));
+  EXPECT_EQ(read_all<double>(r.file, "gamma", H5T_NATIVE_DOUBLE), linspace(0.1, 0.5, kNgamma));
+  EXPECT_EQ(read_all<double>(r.file, "t", H5T_NATIVE_DOUBLE), linspace(0.0, 1.5, kNt));
+
+  const auto q = read_all<double>(r.file, "final_q", H5T_NATIVE_DOUBLE);
+  const auto traj = read_all<double>(r.file, "traj_q", H5T_NATIVE_DOUBLE);
+  const auto settle = read_all<double>(r.file, "settle_time", H5T_NATIVE_DOUBLE);
+  const auto status = read_all<std::uint8_t>(r.file, "status", H5T_NATIVE_UINT8);
+  const auto basin = read_all<std::int8_t>(r.file, "basin", H5T_NATIVE_INT8);
+  const auto label = read_all<std::int8_t>(r.file, "label", H5T_NATIVE_INT8);
+  ASSERT_EQ(q.size(), static_cast<std::size_t>(kPoints));
+  ASSERT_EQ(traj.size(), static_cast<std::size_t>(kPoints * kNt));
+  ASSERT_EQ(settle.size(), q.size());
+  ASSERT_EQ(status.size(), q.size());
+  ASSERT_EQ(basin.size(), q.size());
+  ASSERT_EQ(label.size(), q.size());
+  for (std::int64_t i = 0; i < kPoints; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    EXPECT_EQ(q[k], final_q(i, 0)) << "point " << i;
+    EXPECT_EQ(status[k], status_of(i, 0)) << "point " << i;
+    EXPECT_EQ(basin[k], basin_of(i, 0)) << "point " << i;
+    for (std::int64_t j = 0; j < kNt; ++j) {
+      EXPECT_EQ(traj[k * kNt + static_cast<std::size_t>(j)], traj_q(i, j)) << i << ", " << j;
+    }
+    if (i < kPoints / 2) {
+      EXPECT_EQ(settle[k], settle_time(i, 0)) << "point " << i;
+      EXPECT_EQ(label[k], basin_of(i, 0)) << "point " << i;
+    } else {  // never written: the fill values
+      EXPECT_TRUE(std::isnan(settle[k])) << "point " << i;
+      EXPECT_EQ(label[k], -128) << "point " << i;
+    }
+  }
+
+  for (const char* name : {"final_q", "settle_time", "status", "basin", "label"}) {
+    expect_scales(r.file, name, {"q_0", "gamma"});
+  }
+  expect_scales(r.file, "traj_q", {"q_0", "gamma", "t"});
+
+  const hid_t root = H5Gopen2(r.file, "/", H5P_DEFAULT);
+  EXPECT_EQ(text_attribute(root, "title"), "OutputFile test");
+  EXPECT_EQ(text_attribute(root, "empty"), "");
+  EXPECT_EQ(text_attribute(root, "x"), "1");
+  EXPECT_EQ(attribute_values<double>(root, "h", H5T_NATIVE_DOUBLE), std::vector<double>{0.01});
+  H5Gclose(root);
+
+  const hid_t t = H5Dopen2(r.file, "t", H5P_DEFAULT);
+  EXPECT_EQ(text_attribute(t, "long_name"), "time");
+  EXPECT_EQ(text_attribute(t, "units"), "1");
+  H5Dclose(t);
+  const hid_t q0 = H5Dopen2(r.file, "q_0", H5P_DEFAULT);
+  EXPECT_EQ(H5Aexists(q0, "units"), 0) << "empty units are omitted";
+  H5Dclose(q0);
+
+  const hid_t st = H5Dopen2(r.file, "status", H5P_DEFAULT);
+  EXPECT_EQ(text_attribute(st, "long_name"), "integration status");
+  EXPECT_TRUE(attribute_has_type(st, "flag_values", H5T_STD_U8LE, 3));
+  EXPECT_EQ(attribute_values<std::uint8_t>(st, "flag_values", H5T_NATIVE_UINT8),
+            (std::vector<std::uint8_t>{0, 1, 2}));
+  EXPECT_EQ(text_attribute(st, "flag_meanings"), "ok diverged breakdown");
+  EXPECT_EQ(H5Aexists(st, "_FillValue"), 0);
+  H5Dclose(st);
+
+  const hid_t la = H5Dopen2(r.file, "label", H5P_DEFAULT);
+  EXPECT_TRUE(attribute_has_type(la, "flag_values", H5T_STD_I8LE, 2));
+  EXPECT_TRUE(attribute_has_type(la, "_FillValue", H5T_STD_I8LE, 1));
+  EXPECT_EQ(attribute_values<std::int8_t>(la, "_FillValue", H5T_NATIVE_INT8),
+            std::vector<std::int8_t>{-128});
+  H5Dclose(la);
+}
+
+// Three axes and several distributions in one file: the flat-range-to-hyperslab decomposition
+// meets partial and whole rows at every level, at any rank count (the gappy distributions leave
+// holes even at np 1, where ragged blocks merge into one range).
+TEST(OutputFile, ThreeAxesEveryDistribution) {
+  const std::string path = sibling_path("3axes");
+  remove_on_rank0(path);
+  constexpr std::int64_t kPts = 3 * 4 * 5;
+  constexpr std::int64_t kT = 3;
+  constexpr int kMaxGap = 12;
+  FileLayout layout;
+  layout.axes = {{"a", linspace(0, 1, 3), "a", ""},
+                 {"b", linspace(0, 1, 4), "b", ""},
+                 {"c", linspace(0, 1, 5), "c", ""}};
+  layout.time = CoordinateSpec{"t", linspace(0, 1, kT), "time", ""};
+  const int rank = world_rank();
+  const int size = world_size();
+  std::vector<std::string> names = {"ragged7", "ragged13", "blocks", "last_rank", "empty"};
+  std::vector<std::vector<PointRange>> distributions = {
+      ragged_ranges(kPts, rank, size, 7), ragged_ranges(kPts, rank, size, 13),
+      block_ranges(kPts, rank, size),
+      rank == size - 1 ? std::vector<PointRange>{{0, kPts}} : std::vector<PointRange>{},
+      {}};
+  for (int m = 1; m <= kMaxGap; ++m) {
+    names.push_back("gappy" + std::to_string(m));
+    distributions.push_back(gappy_ranges(kPts, rank, size, m));
+  }
+  for (const std::string& name : names) {
+    layout.datasets.push_back({name, ElementType::float64, true, name, "", {}, "", {}});
+  }
+  const auto f = [](std::int64_t i, std::int64_t j) { return 10.0 * static_cast<double>(i) + j; };
+  {
+    OutputFile out(path, layout, MPI_COMM_WORLD);
+    for (std::size_t d = 0; d < names.size(); ++d) {
+      out.write(names[d], distributions[d], values_for<double>(distributions[d], kT, f).data());
+    }
+    out.commit();
+  }
+  if (rank != 0) return;
+  Reader r(path);
+  ASSERT_GE(r.file, 0);
+  for (const std::string& name : names) {
+    const auto values = read_all<double>(r.file, name, H5T_NATIVE_DOUBLE);
+    ASSERT_EQ(values.size(), static_cast<std::size_t>(kPts * kT)) << name;
+    const int gap = name.starts_with("gappy") ? std::stoi(name.substr(5)) : 0;
+    for (std::int64_t i = 0; i < kPts * kT; ++i) {
+      const double v = values[static_cast<std::size_t>(i)];
+      const bool written = name == "empty" ? false : gap == 0 || written_in_gappy(i / kT, gap);
+      if (written) {
+        EXPECT_EQ(v, f(i / kT, i % kT)) << name << " element " << i;
+      } else {
+        EXPECT_TRUE(std::isnan(v)) << name << " element " << i;
+      }
+    }
+    expect_scales(r.file, name, {"a", "b", "c", "t"});
+  }
+}
+
+// No grid: one trajectory, scalar datasets and time series of shape (t). The last rank writes it.
+FileLayout scalar_layout() {
+  FileLayout layout;
+  layout.time = CoordinateSpec{"t", linspace(0.0, 5.0, 6), "time", ""};
+  layout.datasets.push_back({"final_q", ElementType::float64, false, "q at t_end", "", {}, "", {}});
+  layout.datasets.push_back({"status", ElementType::uint8, false, "integration status", "",
+                             {0, 1, 2}, "ok diverged breakdown", {}});
+  layout.datasets.push_back({"traj_q", ElementType::float64, true, "q along the trajectory", "",
+                             {}, "", {}});
+  layout.datasets.push_back({"final_p", ElementType::float64, false, "never written", "", {}, "",
+                             {}});
+  layout.text_attributes = {{"title", "single trajectory"}};
+  return layout;
+}
+
+TEST(OutputFile, ScalarLayout) {
+  const std::string path = sibling_path("scalar");
+  remove_on_rank0(path);
+  const bool writer = world_rank() == world_size() - 1;
+  const std::vector<PointRange> mine =
+      writer ? std::vector<PointRange>{{0, 1}} : std::vector<PointRange>{};
+  const double q = 0.75;
+  const std::uint8_t status = 1;
+  const std::vector<double> traj = {0, 1, 2, 3, 4, 5};
+  {
+    OutputFile out(path, scalar_layout(), MPI_COMM_WORLD);
+    out.write("final_q", mine, &q);
+    out.write("status", mine, &status);
+    out.write("traj_q", mine, traj.data());
+    out.write("final_p", {}, nullptr);
+    out.commit();
+  }
+  if (world_rank() != 0) return;
+  Reader r(path);
+  ASSERT_GE(r.file, 0);
+  EXPECT_TRUE(shape_of(r.file, "final_q").empty());
+  EXPECT_EQ(shape_of(r.file, "traj_q"), std::vector<hsize_t>{6});
+  EXPECT_EQ(read_all<double>(r.file, "final_q", H5T_NATIVE_DOUBLE), std::vector<double>{q});
+  EXPECT_EQ(read_all<std::uint8_t>(r.file, "status", H5T_NATIVE_UINT8),
+            std::vector<std::uint8_t>{status});
+  EXPECT_EQ(read_all<double>(r.file, "traj_q", H5T_NATIVE_DOUBLE), traj);
+  const auto p = read_all<double>(r.file, "final_p", H5T_NATIVE_DOUBLE);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_TRUE(std::isnan(p[0]));
+  expect_scales(r.file, "traj_q", {"t"});
+}
+
+TEST(OutputFile, UncommittedLeavesNoFile) {
+  const std::string path = sibling_path("uncommitted");
+  remove_on_rank0(path);
+  {
+    const std::vector<PointRange> mine = block_ranges(kPoints, world_rank(), world_size());
+    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
+    EXPECT_TRUE(exists(path + ".partial"));
+    EXPECT_FALSE(exists(path));
+  }
+  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path)) << "rank " << world_rank();
+}
+
+TEST(OutputFile, StaleTemporaryIsReplaced) {
+  const std::string path = sibling_path("stale");
+  remove_on_rank0(path);
+  if (world_rank() == 0) std::ofstream(path + ".partial") << "left behind by a killed run";
+  MPI_Barrier(MPI_COMM_WORLD);
+  write_grid_file(path);
+  if (world_rank() != 0) return;
+  EXPECT_FALSE(exists(path + ".partial"));
+  Reader r(path);
+  ASSERT_GE(r.file, 0);
+  EXPECT_EQ(read_all<double>(r.file, "final_q", H5T_NATIVE_DOUBLE).size(),
+            static_cast<std::size_t>(kPoints));
+  std::filesystem::remove(path);
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// No timestamps or other run-dependent bytes: reruns can be compared with cmp.
+TEST(OutputFile, IdenticalRunsGiveIdenticalBytes) {
+  const std::string first = sibling_path("same1");
+  const std::string second = sibling_path("same2");
+  remove_on_rank0(first);
+  remove_on_rank0(second);
+  write_grid_file(first);
+  write_grid_file(second);
+  if (world_rank() != 0) return;
+  const std::string a = file_bytes(first);
+  EXPECT_FALSE(a.empty());
+  EXPECT_TRUE(a == file_bytes(second)) << first << " and " << second << " differ";
+  std::filesystem::remove(first);
+  std::filesystem::remove(second);
+}
+
+// A request that is bad on one rank only makes every rank throw (no rank is left inside a
+// collective write), and the file stays usable.
+TEST(OutputFile, BadRequestsThrowOnEveryRankAndLeaveTheFileUsable) {
+  const std::string path = sibling_path("bad_requests");
+  remove_on_rank0(path);
+  const std::vector<PointRange> mine = block_ranges(kPoints, world_rank(), world_size());
+  const std::vector<double> values = values_for<double>(mine, 1, final_q);
+  {
+    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    EXPECT_THROW(out.write("no_such_dataset", mine, values.data()), std::runtime_error);
+    const std::vector<PointRange> bad =
+        world_rank() == 0 ? std::vector<PointRange>{{0, kPoints + 1}} : mine;
+    EXPECT_THROW(out.write("final_q", bad, values.data()), std::runtime_error);
+    const std::vector<PointRange> unsorted =
+        world_rank() == 0 ? std::vector<PointRange>{{4, 6}, {0, 2}} : mine;
+    EXPECT_THROW(out.write("final_q", unsorted, values.data()), std::runtime_error);
+    out.write("final_q", mine, values.data());
+    out.commit();
+    EXPECT_THROW(out.commit(), std::runtime_error);
+  }
+  if (world_rank() != 0) return;
+  Reader r(path);
+  ASSERT_GE(r.file, 0);
+  EXPECT_EQ(read_all<double>(r.file, "final_q", H5T_NATIVE_DOUBLE)[kPoints - 1],
+            final_q(kPoints - 1, 0));
+  std::filesystem::remove(path);
+}
+
+TEST(OutputFile, CreationFailureNamesThePath) {
+  const std::string path = "/nonexistent-contactsweep-dir/out.h5";
+  try {
+    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST(OutputFile, InvalidLayoutsAreRejected) {
+  const std::string path = sibling_path("invalid");
+  remove_on_rank0(path);
+  FileLayout no_time = grid_layout();
+  no_time.time.reset();
+  EXPECT_THROW(OutputFile(path, no_time, MPI_COMM_WORLD), std::runtime_error);
+  FileLayout twice = grid_layout();
+  twice.datasets.push_back(twice.datasets.front());
+  EXPECT_THROW(OutputFile(path, twice, MPI_COMM_WORLD), std::runtime_error);
+  FileLayout clash = grid_layout();
+  clash.datasets.front().name = "gamma";
+  EXPECT_THROW(OutputFile(path, clash, MPI_COMM_WORLD), std::runtime_error);
+  FileLayout wide_flag = grid_layout();
+  wide_flag.datasets[3].flag_values.push_back(300);  // status is uint8
+  EXPECT_THROW(OutputFile(path, wide_flag, MPI_COMM_WORLD), std::runtime_error);
+  FileLayout empty_axis = grid_layout();
+  empty_axis.axes[1].values.clear();
+  EXPECT_THROW(OutputFile(path, empty_axis, MPI_COMM_WORLD), std::runtime_error);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_FALSE(exists(path));
+  EXPECT_FALSE(exists(path + ".partial"));
+}
+
+}  // namespace
