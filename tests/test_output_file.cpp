@@ -61,6 +61,10 @@ std::string sibling_path(const std::string& tag) {
 
 bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
+// Files, datasets, attributes and types still open anywhere: an OutputFile gone, on whatever
+// path, must have closed everything it opened.
+ssize_t open_hdf5_objects() { return H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL); }
+
 void remove_on_rank0(const std::string& path) {
   if (world_rank() == 0) {
     std::filesystem::remove(path);
@@ -298,6 +302,7 @@ TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
   const std::string path = output_path();
   remove_on_rank0(path);
   write_grid_file(path);
+  EXPECT_EQ(open_hdf5_objects(), 0);
   MPI_Barrier(MPI_COMM_WORLD);
   EXPECT_TRUE(exists(path)) << "rank " << world_rank();
   EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
@@ -493,6 +498,7 @@ TEST(OutputFile, UncommittedLeavesNoFile) {
   }
   EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
   EXPECT_FALSE(exists(path)) << "rank " << world_rank();
+  EXPECT_EQ(open_hdf5_objects(), 0);
 }
 
 TEST(OutputFile, StaleTemporaryIsReplaced) {
@@ -551,6 +557,7 @@ TEST(OutputFile, BadRequestsThrowOnEveryRankAndLeaveTheFileUsable) {
     out.commit();
     EXPECT_THROW(out.commit(), std::runtime_error);
   }
+  EXPECT_EQ(open_hdf5_objects(), 0);
   if (world_rank() != 0) return;
   Reader r(path);
   ASSERT_GE(r.file, 0);
@@ -567,6 +574,7 @@ TEST(OutputFile, CreationFailureNamesThePath) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
+  EXPECT_EQ(open_hdf5_objects(), 0);
 }
 
 TEST(OutputFile, InvalidLayoutsAreRejected) {
@@ -590,6 +598,27 @@ TEST(OutputFile, InvalidLayoutsAreRejected) {
   MPI_Barrier(MPI_COMM_WORLD);
   EXPECT_FALSE(exists(path));
   EXPECT_FALSE(exists(path + ".partial"));
+  EXPECT_EQ(open_hdf5_objects(), 0);
+}
+
+// HDF5 itself refuses the last dataset, after the file and the others exist: the constructor
+// cleans up (no destructor runs for it) and says which path and which dataset failed.
+TEST(OutputFile, FailureDuringCreationCleansUp) {
+  const std::string path = sibling_path("bad_name");
+  remove_on_rank0(path);
+  FileLayout layout = grid_layout();
+  layout.datasets.back().name = ".";
+  try {
+    OutputFile out(path, layout, MPI_COMM_WORLD);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path + ".partial"), std::string::npos) << message;
+    EXPECT_NE(message.find("dataset '.'"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path));
+  EXPECT_EQ(open_hdf5_objects(), 0);
 }
 
 }  // namespace

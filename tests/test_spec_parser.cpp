@@ -1,7 +1,5 @@
 // The spec parser: defaults, grid order, numpy-exact linspace, --set, the stored spec text, and a
 // corpus of bad inputs whose messages must name what is wrong.
-#include "io/spec_parser.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
 #include "physics/scene_catalog.hpp"
 
@@ -91,7 +90,8 @@ TEST(SpecParser, MinimalSpecTakesEveryDefaultFromTheCatalog) {
     const RunSpec spec = parse("[scene]\nname = \"" + scene.name + "\"\n");
     EXPECT_EQ(spec.scene, scene.name);
     ASSERT_EQ(spec.parameters.size(), scene.parameters.size());
-    for (const ParameterInfo& p : scene.parameters) EXPECT_EQ(spec.parameters.at(p.name), p.paper_value);
+    for (const ParameterInfo& p : scene.parameters)
+      EXPECT_EQ(spec.parameters.at(p.name), p.paper_value);
     ASSERT_EQ(spec.initial.size(), scene.variables.size());
     for (const VariableInfo& v : scene.variables) EXPECT_EQ(spec.initial.at(v.name), v.paper_value);
     EXPECT_EQ(spec.method, "hybrid_leapfrog");
@@ -191,8 +191,9 @@ z_0 = { values = [1.0] }
 
 TEST(SpecParser, GridAxisWinsOverTheSceneValue) {
   // The [scene] value stays as the base value; the axis replaces it point by point.
-  const RunSpec spec = parse(kDoubleWell + "gamma = 0.3\n[initial]\nq = 1.0\n[grid]\n"
-                                           "gamma = { values = [0.1, 0.2] }\nq_0 = { values = [5.0] }\n");
+  const RunSpec spec = parse(kDoubleWell +
+                             "gamma = 0.3\n[initial]\nq = 1.0\n[grid]\n"
+                             "gamma = { values = [0.1, 0.2] }\nq_0 = { values = [5.0] }\n");
   EXPECT_EQ(spec.parameters.at("gamma"), 0.3);
   EXPECT_EQ(spec.initial.at("q"), 1.0);
   EXPECT_EQ(spec.axes[0].values, (std::vector<double>{0.1, 0.2}));
@@ -201,8 +202,9 @@ TEST(SpecParser, GridAxisWinsOverTheSceneValue) {
 
 TEST(SpecParser, GridOfExactly2To40PointsIsAccepted) {
   // The size check happens before any coordinate is built, so only small axes are allocated.
-  const RunSpec spec = parse(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
-                                           "p_0 = { from = 0, to = 1, n = 1048576 }\n");
+  const RunSpec spec = parse(kDoubleWell +
+                             "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
+                             "p_0 = { from = 0, to = 1, n = 1048576 }\n");
   EXPECT_EQ(spec.grid_points(), std::int64_t{1} << 40);
 }
 
@@ -218,40 +220,83 @@ struct LinspaceCase {
 
 const std::vector<LinspaceCase> kLinspaceCases = {
     // np.linspace(-3.0, 3.0, 512): differs from the naive formula at 139 indices.
-    {-0x1.8p+1, 0x1.8p+1, 512,
-     {{0, -0x1.8000000000000p+1}, {1, -0x1.7e7f3f9fcfe7fp+1}, {2, -0x1.7cfe7f3f9fcfep+1},
-      {100, -0x1.d369b4da6d36ap+0}, {255, -0x1.80c0603018200p-8}, {256, 0x1.80c0603018000p-8},
-      {257, 0x1.2090482412080p-6}, {383, 0x1.7f3f9fcfe7f40p+0}, {510, 0x1.7e7f3f9fcfe7ep+1},
+    {-0x1.8p+1,
+     0x1.8p+1,
+     512,
+     {{0, -0x1.8000000000000p+1},
+      {1, -0x1.7e7f3f9fcfe7fp+1},
+      {2, -0x1.7cfe7f3f9fcfep+1},
+      {100, -0x1.d369b4da6d36ap+0},
+      {255, -0x1.80c0603018200p-8},
+      {256, 0x1.80c0603018000p-8},
+      {257, 0x1.2090482412080p-6},
+      {383, 0x1.7f3f9fcfe7f40p+0},
+      {510, 0x1.7e7f3f9fcfe7ep+1},
       {511, 0x1.8000000000000p+1}}},
     // np.linspace(0.0, 1.0, 7)
-    {0.0, 1.0, 7,
-     {{0, 0x0.0p+0}, {1, 0x1.5555555555555p-3}, {2, 0x1.5555555555555p-2}, {3, 0x1.0p-1},
-      {4, 0x1.5555555555555p-1}, {5, 0x1.aaaaaaaaaaaaap-1}, {6, 0x1.0p+0}}},
+    {0.0,
+     1.0,
+     7,
+     {{0, 0x0.0p+0},
+      {1, 0x1.5555555555555p-3},
+      {2, 0x1.5555555555555p-2},
+      {3, 0x1.0p-1},
+      {4, 0x1.5555555555555p-1},
+      {5, 0x1.aaaaaaaaaaaaap-1},
+      {6, 0x1.0p+0}}},
     // np.linspace(0.1, 0.7, 13)
-    {0x1.999999999999ap-4, 0x1.6666666666666p-1, 13,
-     {{0, 0x1.999999999999ap-4}, {1, 0x1.3333333333333p-3}, {2, 0x1.999999999999ap-3},
-      {3, 0x1.0p-2}, {4, 0x1.3333333333333p-2}, {5, 0x1.6666666666666p-2},
-      {6, 0x1.999999999999ap-2}, {7, 0x1.cccccccccccccp-2}, {8, 0x1.0p-1},
-      {9, 0x1.1999999999999p-1}, {10, 0x1.3333333333333p-1}, {11, 0x1.4ccccccccccccp-1},
+    {0x1.999999999999ap-4,
+     0x1.6666666666666p-1,
+     13,
+     {{0, 0x1.999999999999ap-4},
+      {1, 0x1.3333333333333p-3},
+      {2, 0x1.999999999999ap-3},
+      {3, 0x1.0p-2},
+      {4, 0x1.3333333333333p-2},
+      {5, 0x1.6666666666666p-2},
+      {6, 0x1.999999999999ap-2},
+      {7, 0x1.cccccccccccccp-2},
+      {8, 0x1.0p-1},
+      {9, 0x1.1999999999999p-1},
+      {10, 0x1.3333333333333p-1},
+      {11, 0x1.4ccccccccccccp-1},
       {12, 0x1.6666666666666p-1}}},
     // np.linspace(0.0, 5e-324, 4): the step underflows to 0, numpy's i / div * delta branch.
-    {0.0, 0x0.0000000000001p-1022, 4,
+    {0.0,
+     0x0.0000000000001p-1022,
+     4,
      {{0, 0.0}, {1, 0.0}, {2, 0x0.0000000000001p-1022}, {3, 0x0.0000000000001p-1022}}},
     // np.linspace(1.0, 0.0, 3): descending.
     {1.0, 0.0, 3, {{0, 0x1.0p+0}, {1, 0x1.0p-1}, {2, 0.0}}},
     // np.linspace(5.0, -5.0, 1): a single point is `from`.
     {5.0, -5.0, 1, {{0, 0x1.4p+2}}},
     // np.linspace(-2.5, 7.3, 1000): differs from the naive formula at 238 indices.
-    {-2.5, 0x1.d333333333333p+2, 1000,
-     {{0, -0x1.4p+1}, {1, -0x1.3ebe8d59d7ebfp+1}, {3, -0x1.3c3ba80d87c3cp+1},
-      {333, 0x1.888888888888cp-1}, {499, 0x1.329279e01f294p+1}, {500, 0x1.33d3ec86473d4p+1},
-      {666, 0x1.0222222222223p+2}, {997, 0x1.d1f1c08d0b1f2p+2}, {998, 0x1.d29279e01f294p+2},
+    {-2.5,
+     0x1.d333333333333p+2,
+     1000,
+     {{0, -0x1.4p+1},
+      {1, -0x1.3ebe8d59d7ebfp+1},
+      {3, -0x1.3c3ba80d87c3cp+1},
+      {333, 0x1.888888888888cp-1},
+      {499, 0x1.329279e01f294p+1},
+      {500, 0x1.33d3ec86473d4p+1},
+      {666, 0x1.0222222222223p+2},
+      {997, 0x1.d1f1c08d0b1f2p+2},
+      {998, 0x1.d29279e01f294p+2},
       {999, 0x1.d333333333333p+2}}},
     // np.linspace(0.001, 1000.0, 9)
-    {0x1.0624dd2f1a9fcp-10, 1000.0, 9,
-     {{0, 0x1.0624dd2f1a9fcp-10}, {1, 0x1.f400e56041894p+6}, {2, 0x1.f400624dd2f1bp+7},
-      {3, 0x1.770028f5c28f6p+8}, {4, 0x1.f40020c49ba5ep+8}, {5, 0x1.38800c49ba5e3p+9},
-      {6, 0x1.7700083126e98p+9}, {7, 0x1.b58004189374cp+9}, {8, 0x1.f4p+9}}},
+    {0x1.0624dd2f1a9fcp-10,
+     1000.0,
+     9,
+     {{0, 0x1.0624dd2f1a9fcp-10},
+      {1, 0x1.f400e56041894p+6},
+      {2, 0x1.f400624dd2f1bp+7},
+      {3, 0x1.770028f5c28f6p+8},
+      {4, 0x1.f40020c49ba5ep+8},
+      {5, 0x1.38800c49ba5e3p+9},
+      {6, 0x1.7700083126e98p+9},
+      {7, 0x1.b58004189374cp+9},
+      {8, 0x1.f4p+9}}},
 };
 
 TEST(Linspace, MatchesNumpyBitForBit) {
@@ -292,8 +337,9 @@ basin = { early_stop = false }
   EXPECT_FALSE(spec.measures.basin->early_stop);
   EXPECT_FALSE(spec.measures.sync.has_value());
 
-  const RunSpec other = parse(kDoubleWell + "[measures]\nfinal_state = false\ntrajectory = { every = 10 }\n"
-                                            "basin = {}\n");
+  const RunSpec other = parse(kDoubleWell +
+                              "[measures]\nfinal_state = false\ntrajectory = { every = 10 }\n"
+                              "basin = {}\n");
   EXPECT_FALSE(other.measures.final_state.has_value());
   EXPECT_EQ(other.measures.trajectory->every, 10);
   EXPECT_TRUE(other.measures.basin->early_stop);
@@ -303,7 +349,8 @@ TEST(SpecParser, SyncWindowGivenOrSecondHalfOfTheRun) {
   const RunSpec given = parse(kCoupled + "[measures]\nsync = { window = [50.0, 100] }\n");
   EXPECT_EQ(given.measures.sync->window_from, 50.0);
   EXPECT_EQ(given.measures.sync->window_to, 100.0);
-  const RunSpec by_default = parse(kCoupled + "[integrator]\nt_end = 80\n[measures]\nsync = true\n");
+  const RunSpec by_default =
+      parse(kCoupled + "[integrator]\nt_end = 80\n[measures]\nsync = true\n");
   EXPECT_EQ(by_default.measures.sync->window_from, 40.0);
   EXPECT_EQ(by_default.measures.sync->window_to, 80.0);
 }
@@ -312,13 +359,15 @@ TEST(SpecParser, EachSceneAcceptsExactlyTheMeasuresItSupports) {
   for (const SceneInfo& scene : scene_catalog()) {
     for (const char* measure : {"final_state", "trajectory", "basin", "sync"}) {
       SCOPED_TRACE(scene.name + " / " + measure);
-      const std::string text = "[scene]\nname = \"" + scene.name + "\"\n[measures]\n" + measure + " = true\n";
+      const std::string text =
+          "[scene]\nname = \"" + scene.name + "\"\n[measures]\n" + measure + " = true\n";
       const bool supported =
           std::find(scene.measures.begin(), scene.measures.end(), measure) != scene.measures.end();
       if (supported) {
         EXPECT_NO_THROW(parse(text));
       } else {
-        EXPECT_NE(message_of(text).find("scene '" + scene.name + "' does not support"), std::string::npos);
+        EXPECT_NE(message_of(text).find("scene '" + scene.name + "' does not support"),
+                  std::string::npos);
       }
     }
   }
@@ -357,25 +406,29 @@ TEST(SpecParser, SetGridSizeKeepsTheAxisInPlace) {
 }
 
 TEST(SpecParser, SetReplacingAnAxisKeepsItsPlaceAndNewAxesComeLast) {
-  const RunSpec spec = parse(kSweep, {"grid.q_0={ values = [1.0, 2.0] }", "grid.a={ from = 0, to = 1, n = 8 }",
-                                      "grid.z_0.values=[1.0]"});
+  const RunSpec spec =
+      parse(kSweep, {"grid.q_0={ values = [1.0, 2.0] }", "grid.a={ from = 0, to = 1, n = 8 }",
+                     "grid.z_0.values=[1.0]"});
   EXPECT_EQ(axis_names(spec), (std::vector<std::string>{"p_0", "q_0", "gamma", "a", "z_0"}));
   EXPECT_EQ(spec.axes[1].values, (std::vector<double>{1.0, 2.0}));
   EXPECT_EQ(spec.axes[3].values, linspace(0.0, 1.0, 8));
 }
 
 TEST(SpecParser, SetCreatesMissingSectionsAndKeys) {
-  const RunSpec spec = parse(kDoubleWell, {"measures.basin.early_stop=false", "grid={ q_0 = { values = [1.0] }, "
-                                                                              "gamma = { values = [0.1, 0.2] } }"});
+  const RunSpec spec = parse(kDoubleWell, {"measures.basin.early_stop=false",
+                                           "grid={ q_0 = { values = [1.0] }, "
+                                           "gamma = { values = [0.1, 0.2] } }"});
   ASSERT_TRUE(spec.measures.basin.has_value());
   EXPECT_FALSE(spec.measures.basin->early_stop);
-  EXPECT_FALSE(spec.measures.final_state.has_value());  // [measures] now exists and asks for basin only
+  EXPECT_FALSE(
+      spec.measures.final_state.has_value());  // [measures] now exists and asks for basin only
   EXPECT_EQ(axis_names(spec), (std::vector<std::string>{"q_0", "gamma"}));  // as written in VALUE
 }
 
 TEST(SpecParser, SetTakesABareWordAsAString) {
   // The shell turns --set scene.name="z2_damping" into scene.name=z2_damping.
-  const RunSpec spec = parse(kDoubleWell, {"scene.name=z2_damping", "integrator.method='hybrid_leapfrog'"});
+  const RunSpec spec =
+      parse(kDoubleWell, {"scene.name=z2_damping", "integrator.method='hybrid_leapfrog'"});
   EXPECT_EQ(spec.scene, "z2_damping");
 }
 
@@ -443,7 +496,8 @@ TEST(SpecParser, LoadReadsTheFileAndNamesItInMessages) {
     load_run_spec(path, {});
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find(path + ":4:5: integrator.h = -1"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find(path + ":4:5: integrator.h = -1"), std::string::npos)
+        << error.what();
   }
   const std::string missing = (dir / "no_such_spec.toml").string();
   EXPECT_THROW(
@@ -463,14 +517,16 @@ TEST(SpecParser, LoadReadsTheFileAndNamesItInMessages) {
 TEST(SpecParser, MethodNeedingSplitPartsTheSceneLacksIsRefused) {
   for (const MethodInfo& method : method_catalog()) {
     for (const SceneInfo& scene : scene_catalog()) {
-      const bool lacks = std::any_of(method.needs_split_parts.begin(), method.needs_split_parts.end(),
-                                     [&](const std::string& part) {
-                                       return std::find(scene.split_parts.begin(), scene.split_parts.end(),
-                                                        part) == scene.split_parts.end();
-                                     });
+      const bool lacks =
+          std::any_of(method.needs_split_parts.begin(), method.needs_split_parts.end(),
+                      [&](const std::string& part) {
+                        return std::find(scene.split_parts.begin(), scene.split_parts.end(),
+                                         part) == scene.split_parts.end();
+                      });
       if (!lacks) continue;
-      const std::string message = message_of("[scene]\nname = \"" + scene.name + "\"\n[integrator]\nmethod = \"" +
-                                             method.name + "\"\n");
+      const std::string message =
+          message_of("[scene]\nname = \"" + scene.name + "\"\n[integrator]\nmethod = \"" +
+                     method.name + "\"\n");
       EXPECT_NE(message.find("does not offer"), std::string::npos) << message;
       return;
     }
@@ -493,107 +549,186 @@ std::ostream& operator<<(std::ostream& out, const BadSpec& bad) { return out << 
 
 const std::string kDw = kDoubleWell;  // short name for the table below
 
+// clang-format off
 const std::vector<BadSpec> kBadSpecs = {
     // Malformed TOML: position of the problem.
     {"unclosed_array", kDw + "[grid]\nq_0 = { values = [1, 2 }\n", {}, "test.toml:4:"},
-    {"duplicate_key", kDw + "name = \"z2_damping\"\n", {}, "test.toml:3:"},
+    {"duplicate_key", kDw + "name = \"z2_damping\"\n", {}, "test.toml:3:8: malformed TOML"},
     {"duplicate_axis", kDw + "[grid]\nq_0 = { values = [1] }\nq_0 = { values = [2] }\n", {},
      "cannot redefine existing table 'q_0'"},
-    {"duplicate_axis_header", kDw + "[grid]\nq_0 = { values = [1] }\n[grid.q_0]\nn = 3\n", {}, "q_0"},
+    {"duplicate_axis_header", kDw + "[grid]\nq_0 = { values = [1] }\n[grid.q_0]\nn = 3\n", {},
+     "cannot redefine existing table 'grid.q_0'"},
     {"bare_string", "[scene]\nname = double_well\n", {}, "test.toml:2:"},
     // Unknown sections and keys, with the closest valid key.
-    {"unknown_section", kDw + "[integrater]\nh = 0.1\n", {}, "unknown key 'integrater' (did you mean 'integrator'?)"},
-    {"alias_stepsize", kDw + "[integrator]\nstepsize = 0.1\n", {}, "unknown key 'integrator.stepsize' (did you mean 'integrator.h'?)"},
+    {"unknown_section", kDw + "[integrater]\nh = 0.1\n", {},
+     "unknown key 'integrater' (did you mean 'integrator'?)"},
+    {"alias_stepsize", kDw + "[integrator]\nstepsize = 0.1\n", {},
+     "unknown key 'integrator.stepsize' (did you mean 'integrator.h'?)"},
     {"alias_tmax", kDw + "[integrator]\ntmax = 10\n", {}, "did you mean 'integrator.t_end'?"},
-    {"typo_parameter", kDw + "gama = 0.1\n", {}, "unknown key 'scene.gama' (did you mean 'scene.gamma'?)"},
+    {"typo_parameter", kDw + "gama = 0.1\n", {},
+     "unknown key 'scene.gama' (did you mean 'scene.gamma'?)"},
     {"transposed_key", kDw + "[integrator]\nt_ned = 10\n", {}, "did you mean 'integrator.t_end'?"},
-    {"key_of_other_section", kDw + "[integrator]\ngamma = 0.1\n", {}, "did you mean 'scene.gamma'?"},
-    {"top_level_key", kDw + "h = 0.1\n", {}, "unknown key 'scene.h' (did you mean 'integrator.h'?)"},
-    {"initial_with_suffix", kDw + "[initial]\nq_0 = 1.0\n", {}, "unknown key 'initial.q_0' (did you mean 'initial.q'?)"},
-    {"parameter_of_other_scene", kDw + "omega = 1.0\n", {}, "valid keys in [scene]: name, a, gamma"},
-    {"axis_without_suffix", kDw + "[grid]\nq = { values = [1] }\n", {}, "unknown key 'grid.q' (did you mean 'grid.q_0'?)"},
-    {"axis_unknown", kDw + "[grid]\nomega = { values = [1] }\n", {}, "valid keys in [grid]: a, gamma, q_0, p_0, z_0, lambda_0"},
-    {"axis_unknown_key", kDw + "[grid]\nq_0 = { start = 0, to = 1, n = 2 }\n", {}, "unknown key 'grid.q_0.start' (did you mean 'grid.q_0.from'?)"},
-    {"measure_unknown", kDw + "[measures]\nbasins = {}\n", {}, "unknown key 'measures.basins' (did you mean 'measures.basin'?)"},
-    {"measure_unknown_key", kDw + "[measures]\ntrajectory = { stride = 2 }\n", {}, "did you mean 'measures.trajectory.every'?"},
+    {"key_of_other_section", kDw + "[integrator]\ngamma = 0.1\n", {},
+     "did you mean 'scene.gamma'?"},
+    {"key_lands_in_scene", kDw + "h = 0.1\n", {},
+     "unknown key 'scene.h' (did you mean 'integrator.h'?)"},
+    {"top_level_key", "h = 0.1\n" + kDw, {}, "unknown key 'h' (did you mean 'integrator.h'?)"},
+    {"initial_with_suffix", kDw + "[initial]\nq_0 = 1.0\n", {},
+     "unknown key 'initial.q_0' (did you mean 'initial.q'?)"},
+    {"parameter_of_other_scene", kDw + "omega = 1.0\n", {},
+     "valid keys in [scene]: name, a, gamma"},
+    {"axis_without_suffix", kDw + "[grid]\nq = { values = [1] }\n", {},
+     "unknown key 'grid.q' (did you mean 'grid.q_0'?)"},
+    {"axis_unknown", kDw + "[grid]\nomega = { values = [1] }\n", {},
+     "valid keys in [grid]: a, gamma, q_0, p_0, z_0, lambda_0"},
+    {"axis_unknown_key", kDw + "[grid]\nq_0 = { start = 0, to = 1, n = 2 }\n", {},
+     "unknown key 'grid.q_0.start' (did you mean 'grid.q_0.from'?)"},
+    {"measure_unknown", kDw + "[measures]\nbasins = {}\n", {},
+     "unknown key 'measures.basins' (did you mean 'measures.basin'?)"},
+    {"measure_unknown_key", kDw + "[measures]\ntrajectory = { stride = 2 }\n", {},
+     "did you mean 'measures.trajectory.every'?"},
     // Scenes and methods.
-    {"missing_scene", "[integrator]\nh = 0.1\n", {}, "missing [scene] section with name = one of: damped_oscillator, z2_damping, double_well, coupled_oscillators"},
-    {"missing_scene_name", "[scene]\ngamma = 0.1\n", {}, "scene.name is missing; valid scenes: damped_oscillator"},
-    {"unknown_scene", "[scene]\nname = \"duble_well\"\n", {}, "unknown scene \"duble_well\" (did you mean 'double_well'?); valid scenes: damped_oscillator, z2_damping, double_well, coupled_oscillators"},
-    {"unknown_method", kDw + "[integrator]\nmethod = \"rk4\"\n", {}, "unknown method \"rk4\"; valid methods: hybrid_leapfrog"},
+    {"missing_scene", "[integrator]\nh = 0.1\n", {},
+     "missing [scene] section with name = one of: damped_oscillator, z2_damping, double_well, "
+     "coupled_oscillators"},
+    {"missing_scene_name", "[scene]\ngamma = 0.1\n", {},
+     "scene.name is missing; valid scenes: damped_oscillator"},
+    {"unknown_scene", "[scene]\nname = \"duble_well\"\n", {},
+     "unknown scene \"duble_well\" (did you mean 'double_well'?); valid scenes: damped_oscillator, "
+     "z2_damping, double_well, coupled_oscillators"},
+    {"unknown_method", kDw + "[integrator]\nmethod = \"rk4\"\n", {},
+     "unknown method \"rk4\"; valid methods: hybrid_leapfrog"},
     // Wrong types.
-    {"scene_name_not_string", "[scene]\nname = 3\n", {}, "scene.name: expected a string (in quotes), got an integer 3"},
-    {"h_string", kDw + "[integrator]\nh = \"0.01\"\n", {}, "integrator.h: expected a number, got a string \"0.01\""},
-    {"parameter_bool", kDw + "gamma = true\n", {}, "scene.gamma: expected a number, got a boolean true"},
+    {"scene_name_not_string", "[scene]\nname = 3\n", {},
+     "scene.name: expected a string (in quotes), got an integer 3"},
+    {"h_string", kDw + "[integrator]\nh = \"0.01\"\n", {},
+     "integrator.h: expected a number, got a string \"0.01\""},
+    {"parameter_bool", kDw + "gamma = true\n", {},
+     "scene.gamma: expected a number, got a boolean true"},
     {"key_lands_in_section_above", kDw + "integrator = 5\n", {}, "unknown key 'scene.integrator'"},
-    {"top_section_not_table", "integrator = 5\n" + kDw, {}, "integrator: expected a table, got an integer 5"},
-    {"title_not_string", "title = 3\n" + kDw, {}, "title: expected a string (in quotes), got an integer 3"},
-    {"axis_not_table", kDw + "[grid]\nq_0 = [1, 2]\n", {}, "grid.q_0: expected a table { from = ..., to = ..., n = ... } or { values = [...] }, got an array [1, 2]"},
-    {"n_float", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 8.0 }\n", {}, "grid.q_0.n: expected an integer"},
-    {"values_not_array", kDw + "[grid]\nq_0 = { values = 1.0 }\n", {}, "grid.q_0.values: expected an array"},
-    {"values_item_string", kDw + "[grid]\nq_0 = { values = [1.0, \"2\"] }\n", {}, "grid.q_0.values[1]: expected a number, got a string \"2\""},
-    {"every_float", kDw + "[measures]\ntrajectory = { every = 2.5 }\n", {}, "measures.trajectory.every: expected an integer"},
-    {"early_stop_string", kDw + "[measures]\nbasin = { early_stop = \"no\" }\n", {}, "measures.basin.early_stop: expected true or false, got a string \"no\""},
-    {"measure_number", kDw + "[measures]\nbasin = 1\n", {}, "measures.basin: expected true, false or a table { early_stop = ... }, got an integer 1"},
-    {"vars_not_array", kDw + "[measures]\nfinal_state = { vars = \"q\" }\n", {}, "measures.final_state.vars: expected an array"},
+    {"top_section_not_table", "integrator = 5\n" + kDw, {},
+     "integrator: expected a table, got an integer 5"},
+    {"title_not_string", "title = 3\n" + kDw, {},
+     "title: expected a string (in quotes), got an integer 3"},
+    {"axis_not_table", kDw + "[grid]\nq_0 = [1, 2]\n", {},
+     "grid.q_0: expected a table { from = ..., to = ..., n = ... } or { values = [...] }, got an "
+     "array [1, 2]"},
+    {"n_float", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 8.0 }\n", {},
+     "grid.q_0.n: expected an integer"},
+    {"values_not_array", kDw + "[grid]\nq_0 = { values = 1.0 }\n", {},
+     "grid.q_0.values: expected an array"},
+    {"values_item_string", kDw + "[grid]\nq_0 = { values = [1.0, \"2\"] }\n", {},
+     "grid.q_0.values[1]: expected a number, got a string \"2\""},
+    {"every_float", kDw + "[measures]\ntrajectory = { every = 2.5 }\n", {},
+     "measures.trajectory.every: expected an integer"},
+    {"early_stop_string", kDw + "[measures]\nbasin = { early_stop = \"no\" }\n", {},
+     "measures.basin.early_stop: expected true or false, got a string \"no\""},
+    {"measure_number", kDw + "[measures]\nbasin = 1\n", {},
+     "measures.basin: expected true, false or a table { early_stop = ... }, got an integer 1"},
+    {"vars_not_array", kDw + "[measures]\nfinal_state = { vars = \"q\" }\n", {},
+     "measures.final_state.vars: expected an array"},
     // Values out of range, non-finite numbers.
-    {"h_negative", kDw + "[integrator]\nh = -0.01\n", {}, "test.toml:4:5: integrator.h = -0.01: expected a number > 0"},
+    {"h_negative", kDw + "[integrator]\nh = -0.01\n", {},
+     "test.toml:4:5: integrator.h = -0.01: expected a number > 0"},
     {"h_zero", kDw + "[integrator]\nh = 0\n", {}, "integrator.h = 0: expected a number > 0"},
     {"h_nan", kDw + "[integrator]\nh = nan\n", {}, "integrator.h = nan: expected a finite number"},
-    {"t_end_inf", kDw + "[integrator]\nt_end = inf\n", {}, "integrator.t_end = inf: expected a finite number"},
+    {"t_end_inf", kDw + "[integrator]\nt_end = inf\n", {},
+     "integrator.t_end = inf: expected a finite number"},
     {"parameter_nan", kDw + "gamma = nan\n", {}, "scene.gamma = nan: expected a finite number"},
-    {"initial_inf", kDw + "[initial]\np = -inf\n", {}, "initial.p = -inf: expected a finite number"},
-    {"t_end_negative", kDw + "[integrator]\nt_end = -5\n", {}, "integrator.t_end = -5: expected a number > 0"},
-    {"t_end_shorter_than_h", kDw + "[integrator]\nh = 0.01\nt_end = 0.005\n", {}, "integrator.t_end = 0.005 is shorter than one step h = 0.01"},
+    {"initial_inf", kDw + "[initial]\np = -inf\n", {},
+     "initial.p = -inf: expected a finite number"},
+    {"t_end_negative", kDw + "[integrator]\nt_end = -5\n", {},
+     "integrator.t_end = -5: expected a number > 0"},
+    {"t_end_shorter_than_h", kDw + "[integrator]\nh = 0.01\nt_end = 0.005\n", {},
+     "integrator.t_end = 0.005 is shorter than one step h = 0.01"},
     {"t_end_not_whole_steps", kDw + "[integrator]\nh = 0.01\nt_end = 1.005\n", {},
-     "integrator.t_end = 1.005 is not a whole number of steps of h = 0.01 (t_end / h = 100.5); nearest valid t_end: 1 (100 steps) or 1.01 (101 steps)"},
-    {"t_end_default_not_whole_steps", kDw + "[integrator]\nh = 0.03\n", {}, "nearest valid t_end: 99.99 (3333 steps) or 100.02 (3334 steps)"},
-    {"too_many_steps", kDw + "[integrator]\nh = 1e-300\nt_end = 1e10\n", {}, "expected at most 2^53"},
-    {"lambda_zero", kDw + "[initial]\nlambda = 0\n", {}, "initial.lambda = 0: expected a number > 0"},
-    {"lambda_axis_negative", kDw + "[grid]\nlambda_0 = { from = -1, to = 1, n = 3 }\n", {}, "grid.lambda_0 = { from = -1, to = 1, n = 3 }: expected values > 0"},
-    {"n_zero", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 0 }\n", {}, "grid.q_0.n = 0: expected an integer from 1 to 2^32"},
-    {"n_too_large", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 4294967297 }\n", {}, "grid.q_0.n = 4294967297: expected an integer from 1 to 2^32"},
-    {"values_empty", kDw + "[grid]\nq_0 = { values = [] }\n", {}, "grid.q_0.values = []: expected a non-empty array of numbers"},
-    {"values_nan", kDw + "[grid]\np_0 = { values = [0.0, nan] }\n", {}, "grid.p_0.values[1] = nan: expected a finite number"},
-    {"from_inf", kDw + "[grid]\nq_0 = { from = -inf, to = 1, n = 2 }\n", {}, "grid.q_0.from = -inf: expected a finite number"},
-    {"axis_both_forms", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 2, values = [1] }\n", {}, "grid.q_0: give either { from, to, n } or { values = [...] }, not both"},
+     "integrator.t_end = 1.005 is not a whole number of steps of h = 0.01 (t_end / h = 100.5); "
+     "nearest valid t_end: 1 (100 steps) or 1.01 (101 steps)"},
+    {"t_end_default_not_whole_steps", kDw + "[integrator]\nh = 0.03\n", {},
+     "nearest valid t_end: 99.99 (3333 steps) or 100.02 (3334 steps)"},
+    {"too_many_steps", kDw + "[integrator]\nh = 1e-10\nt_end = 1e10\n", {},
+     "integrator.t_end / h = 1e+20 steps: expected at most 2^53"},
+    {"lambda_zero", kDw + "[initial]\nlambda = 0\n", {},
+     "initial.lambda = 0: expected a number > 0"},
+    {"lambda_axis_negative", kDw + "[grid]\nlambda_0 = { from = -1, to = 1, n = 3 }\n", {},
+     "grid.lambda_0 = { from = -1, to = 1, n = 3 }: expected values > 0"},
+    {"n_zero", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 0 }\n", {},
+     "grid.q_0.n = 0: expected an integer from 1 to 2^32"},
+    {"n_too_large", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 4294967297 }\n", {},
+     "grid.q_0.n = 4294967297: expected an integer from 1 to 2^32"},
+    {"values_empty", kDw + "[grid]\nq_0 = { values = [] }\n", {},
+     "grid.q_0.values = []: expected a non-empty array of numbers"},
+    {"values_nan", kDw + "[grid]\np_0 = { values = [0.0, nan] }\n", {},
+     "grid.p_0.values[1] = nan: expected a finite number"},
+    {"from_inf", kDw + "[grid]\nq_0 = { from = -inf, to = 1, n = 2 }\n", {},
+     "grid.q_0.from = -inf: expected a finite number"},
+    {"axis_both_forms", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 2, values = [1] }\n", {},
+     "grid.q_0: give either { from, to, n } or { values = [...] }, not both"},
     {"axis_missing_n", kDw + "[grid]\nq_0 = { from = 0, to = 1 }\n", {}, "grid.q_0: missing 'n'"},
     {"axis_empty", kDw + "[grid]\nq_0 = {}\n", {}, "grid.q_0: missing 'from'"},
-    {"linspace_overflow", kDw + "[grid]\nq_0 = { from = -1e308, to = 1e308, n = 3 }\n", {}, "expected from and to whose difference is a finite number"},
-    {"grid_too_large", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\np_0 = { from = 0, to = 1, n = 1048576 }\n"
-                             "a = { values = [1, 2] }\n", {}, "the grid has more than 2^40 = 1099511627776 points (q_0 = 1048576 x p_0 = 1048576 x a = 2)"},
-    {"grid_overflow", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 4294967296 }\np_0 = { from = 0, to = 1, n = 4294967296 }\n"
-                            "z_0 = { from = 0, to = 1, n = 4294967296 }\n", {}, "the grid has more than 2^40"},
+    {"linspace_overflow", kDw + "[grid]\nq_0 = { from = -1e308, to = 1e308, n = 3 }\n", {},
+     "expected from and to whose difference is a finite number"},
+    {"grid_too_large", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
+                             "p_0 = { from = 0, to = 1, n = 1048576 }\n"
+                             "a = { values = [1, 2] }\n", {},
+     "the grid has more than 2^40 = 1099511627776 points (q_0 = 1048576 x p_0 = 1048576 x a = 2)"},
+    {"grid_overflow", kDw + "[grid]\nq_0 = { from = 0, to = 1, n = 4294967296 }\n"
+                            "p_0 = { from = 0, to = 1, n = 4294967296 }\n"
+                            "z_0 = { from = 0, to = 1, n = 4294967296 }\n", {},
+     "the grid has more than 2^40"},
     // Measures.
     {"basin_unsupported", "[scene]\nname = \"damped_oscillator\"\n[measures]\nbasin = {}\n", {},
-     "measures.basin: scene 'damped_oscillator' does not support 'basin'; it supports: final_state, trajectory"},
+     "measures.basin: scene 'damped_oscillator' does not support 'basin'; it supports: "
+     "final_state, trajectory"},
     {"sync_unsupported", kDw + "[measures]\nsync = { window = [1.0, 2.0] }\n", {},
      "scene 'double_well' does not support 'sync'; it supports: final_state, trajectory, basin"},
     {"vars_unknown", kDw + "[measures]\nfinal_state = { vars = [\"q\", \"q1\"] }\n", {},
-     "measures.final_state.vars[1] = \"q1\": expected a variable of scene 'double_well': q, p, z, lambda"},
-    {"vars_twice", kDw + "[measures]\nfinal_state = { vars = [\"q\", \"q\"] }\n", {}, "measures.final_state.vars[1] = \"q\": expected each variable once"},
-    {"vars_empty", kDw + "[measures]\nfinal_state = { vars = [] }\n", {}, "measures.final_state.vars = []: expected at least one variable"},
-    {"every_zero", kDw + "[measures]\ntrajectory = { every = 0 }\n", {}, "measures.trajectory.every = 0: expected an integer >= 1"},
+     "measures.final_state.vars[1] = \"q1\": expected a variable of scene 'double_well': "
+     "q, p, z, lambda"},
+    {"vars_twice", kDw + "[measures]\nfinal_state = { vars = [\"q\", \"q\"] }\n", {},
+     "measures.final_state.vars[1] = \"q\": expected each variable once"},
+    {"vars_empty", kDw + "[measures]\nfinal_state = { vars = [] }\n", {},
+     "measures.final_state.vars = []: expected at least one variable"},
+    {"every_zero", kDw + "[measures]\ntrajectory = { every = 0 }\n", {},
+     "measures.trajectory.every = 0: expected an integer >= 1"},
     {"sync_window_beyond_t_end", kCoupled + "[measures]\nsync = { window = [50.0, 300.0] }\n", {},
-     "measures.sync.window = [50.0, 300.0]: expected [from, to] with 0 <= from < to <= t_end = 200"},
-    {"sync_window_reversed", kCoupled + "[measures]\nsync = { window = [100.0, 50.0] }\n", {}, "0 <= from < to <= t_end"},
-    {"sync_window_negative", kCoupled + "[measures]\nsync = { window = [-1.0, 50.0] }\n", {}, "0 <= from < to <= t_end"},
-    {"sync_window_one_number", kCoupled + "[measures]\nsync = { window = [50.0] }\n", {}, "measures.sync.window = [50.0]: expected two numbers [from, to]"},
-    {"sync_window_shorter_than_step", kCoupled + "[measures]\nsync = { window = [50.0, 50.001] }\n", {}, "at least one step h = 0.01 long"},
-    {"nothing_requested", kDw + "[measures]\nfinal_state = false\ntrajectory = false\n", {}, "[measures] requests nothing; scene 'double_well' supports"},
+     "measures.sync.window = [50.0, 300.0]: expected [from, to] with 0 <= from < to <= "
+     "t_end = 200"},
+    {"sync_window_reversed", kCoupled + "[measures]\nsync = { window = [100.0, 50.0] }\n", {},
+     "0 <= from < to <= t_end"},
+    {"sync_window_negative", kCoupled + "[measures]\nsync = { window = [-1.0, 50.0] }\n", {},
+     "0 <= from < to <= t_end"},
+    {"sync_window_one_number", kCoupled + "[measures]\nsync = { window = [50.0] }\n", {},
+     "measures.sync.window = [50.0]: expected two numbers [from, to]"},
+    {"sync_window_shorter_than_step",
+     kCoupled + "[measures]\nsync = { window = [50.0, 50.001] }\n", {},
+     "at least one step h = 0.01 long"},
+    {"nothing_requested", kDw + "[measures]\nfinal_state = false\ntrajectory = false\n", {},
+     "[measures] requests nothing; scene 'double_well' supports"},
     // --set.
     {"set_without_equals", kDw, {"integrator.h"}, "--set integrator.h: expected KEY=VALUE"},
     {"set_empty_key", kDw, {"=0.1"}, "--set =0.1: empty key before '='"},
     {"set_empty_value", kDw, {"integrator.h="}, "--set integrator.h=: empty value after '='"},
-    {"set_bad_key", kDw, {"integrator..h=0.1"}, "--set integrator..h=0.1: 'integrator..h' is not a dotted key"},
-    {"set_not_toml", kDw, {"integrator.h=0.0.1"}, "--set integrator.h=0.0.1: 0.0.1 is not a TOML value"},
-    {"set_through_value", kDw, {"scene.name.x=1"}, "--set scene.name.x=1: 'scene.name' is a string in the spec, not a table"},
-    {"set_two_values", kDw, {"integrator.h=0.1\nt_end = 5"}, "the value must be a single TOML value"},
-    {"set_unknown_key", kDw, {"integrator.stepsize=0.01"}, "--set integrator.stepsize=0.01: unknown key 'integrator.stepsize' (did you mean 'integrator.h'?)"},
-    {"set_bad_value", kDw, {"integrator.h=-1"}, "--set integrator.h=-1: integrator.h = -1: expected a number > 0"},
+    {"set_bad_key", kDw, {"integrator..h=0.1"},
+     "--set integrator..h=0.1: 'integrator..h' is not a dotted key"},
+    {"set_not_toml", kDw, {"integrator.h=0.0.1"},
+     "--set integrator.h=0.0.1: 0.0.1 is not a TOML value"},
+    {"set_through_value", kDw, {"scene.name.x=1"},
+     "--set scene.name.x=1: 'scene.name' is a string in the spec, not a table"},
+    {"set_two_values", kDw, {"integrator.h=0.1\nt_end = 5"},
+     "the value must be a single TOML value"},
+    {"set_two_nested_values", kDw, {"integrator.h=0.1\nintegrator.t_end = 5"},
+     "the value must be a single TOML value"},
+    {"set_unknown_key", kDw, {"integrator.stepsize=0.01"},
+     "--set integrator.stepsize=0.01: unknown key 'integrator.stepsize' "
+     "(did you mean 'integrator.h'?)"},
+    {"set_bad_value", kDw, {"integrator.h=-1"},
+     "--set integrator.h=-1: integrator.h = -1: expected a number > 0"},
     {"set_bad_axis", kSweep, {"grid.q_0.n=0"}, "--set grid.q_0.n=0: grid.q_0.n = 0"},
-    {"set_unknown_scene", kDw, {"scene.name=duble_well"}, "--set scene.name=duble_well: unknown scene \"duble_well\""},
+    {"set_unknown_scene", kDw, {"scene.name=duble_well"},
+     "--set scene.name=duble_well: unknown scene \"duble_well\""},
 };
+// clang-format on
 
 class BadSpecTest : public testing::TestWithParam<BadSpec> {};
 
@@ -606,7 +741,9 @@ TEST_P(BadSpecTest, IsRefusedWithAMessageNamingTheProblem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadSpecTest, testing::ValuesIn(kBadSpecs),
-                         [](const testing::TestParamInfo<BadSpec>& info) { return std::string(info.param.name); });
+                         [](const testing::TestParamInfo<BadSpec>& info) {
+                           return std::string(info.param.name);
+                         });
 
 }  // namespace
 }  // namespace cs

@@ -19,6 +19,7 @@
 #include "engine/sync_tracker.hpp"
 #include "physics/double_well.hpp"
 #include "physics/partials.hpp"
+#include "physics/scene_bounds.hpp"
 
 namespace cs {
 
@@ -97,6 +98,21 @@ class BlockRunner {
     t.params[i] = uniform_params_;
     t.coef[i] = uniform_coef_;
     book[i] = Book{};
+    if (&t == &main_) {
+      countdown_[i] = std::numeric_limits<int>::max();
+      trap_energy_[i] = -std::numeric_limits<double>::infinity();
+      a2_[i] = 0.0;
+    }
+  }
+
+  // Double well: E = p²/2 + U(q) never increases for γ ≥ 0, so once E < U(0) = a⁴/2 (less a
+  // margin for the integrator's energy error) the lane can never cross q = 0 again.
+  void arm_trap(int i, const Params& c) {
+    if constexpr (std::is_same_v<S, DoubleWell>) {
+      if (plan_.map.basin < 0 || !(c.gamma >= 0.0)) return;
+      a2_[i] = c.a * c.a;
+      trap_energy_[i] = 0.5 * a2_[i] * a2_[i] - plan_.basin_margin;
+    }
   }
 
   void refill() {
@@ -126,6 +142,8 @@ class BlockRunner {
     main_.params[i] = c;
     main_.coef[i] = coef;
     main_book_[i] = b;
+    countdown_[i] = chunks_until_due(0);
+    arm_trap(i, c);
     observe(main_book_[i], x, c);
     ++active_;
     if (steps_ < plan_.chunk) {  // a run shorter than one chunk is all remainder
@@ -154,17 +172,50 @@ class BlockRunner {
     }
   }
 
+  // Which lanes need a closer look after a chunk: failed, trapped in a well, or due for a
+  // sample or the end. Branch-free over the tile so that it vectorises like the step.
+  void screen() {
+    const Tile& t = main_;
+#pragma GCC ivdep
+    for (int i = 0; i < W; ++i) {
+      int healthy = t.broken[i] <= 0.0;
+      for (int d = 0; d < D; ++d)
+        healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
+      int trapped = 0;
+      if constexpr (std::is_same_v<S, DoubleWell>) {
+        double well = t.q[0][i] * t.q[0][i] - a2_[i];
+        trapped = 0.5 * (t.p[0][i] * t.p[0][i]) + 0.5 * (well * well) < trap_energy_[i];
+      }
+      countdown_[i] -= 1;
+      attention_[i] = (!healthy) | trapped | (countdown_[i] <= 0);
+    }
+  }
+
+  // Chunks until a lane at step n is due for a sample or for the end of its run.
+  int chunks_until_due(std::int64_t n) const {
+    std::int64_t due = (steps_ / plan_.chunk) * plan_.chunk;
+    if (plan_.samples > 0) {
+      auto every = plan_.spec.measures.trajectory->every;
+      due = std::min(due, (n / every + 1) * every);
+    }
+    return static_cast<int>((due - n) / plan_.chunk);
+  }
+
   void look_at_main() {
+    screen();
     for (int i = 0; i < W; ++i) {
       Book& b = main_book_[i];
       if (b.point < 0) continue;
       b.n += plan_.chunk;
+      if (!attention_[i]) continue;
+      countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
       const Params& c = main_.params[i];
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
       if (!failed) observe(b, x, c);
       bool done = failed || b.n == steps_ || (b.trapped && basin_early_stop_);
+      if (b.trapped) trap_energy_[i] = -std::numeric_limits<double>::infinity();
       if (done) {
         finish(b, x, c, status);
         clear(main_, main_book_, i);
@@ -227,13 +278,13 @@ class BlockRunner {
     }
   }
 
-  // Double well: E = p²/2 + U(q) never increases for γ ≥ 0, so once E < U(0) = a⁴/2 (less a
-  // margin for the integrator's energy error) the lane can never cross q = 0 again.
   void check_trap(Book& b, const LaneState<D>& x, const Params& c) {
     if constexpr (std::is_same_v<S, DoubleWell>) {
       if (!(c.gamma >= 0.0)) return;
-      double saddle = 0.5 * (c.a * c.a) * (c.a * c.a);
-      if (DoubleWell::energy(x.q[0], x.p[0], c.a) < saddle - plan_.basin_margin) {
+      double well = x.q[0] * x.q[0] - c.a * c.a;
+      double energy = 0.5 * (x.p[0] * x.p[0]) + 0.5 * (well * well);  // as in screen()
+      double a2 = c.a * c.a;
+      if (energy < 0.5 * a2 * a2 - plan_.basin_margin) {
         b.trapped = true;
         b.settle_time = static_cast<double>(b.n) * plan_.spec.h;
       }
@@ -322,6 +373,11 @@ class BlockRunner {
   bool basin_early_stop_ = true;
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
+  // Screening state of the main tile, structure of arrays.
+  alignas(64) int countdown_[W];
+  alignas(64) int attention_[W];
+  alignas(64) double trap_energy_[W];
+  alignas(64) double a2_[W];
 };
 
 }  // namespace cs

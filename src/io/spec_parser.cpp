@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -15,7 +16,6 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
-#include <toml++/toml.h>
 #include <utility>
 
 #include "numerics/method_catalog.hpp"
@@ -48,15 +48,16 @@ constexpr std::string_view kLeadKeys[] = {"name", "method", "h", "t_end", "from"
 constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync"};
 
 // Names users bring from other tools, which edit distance alone would not find.
+// clang-format off
 constexpr std::pair<std::string_view, std::string_view> kAliases[] = {
-    {"dt", "h"},          {"step", "h"},          {"stepsize", "h"},   {"step_size", "h"},
-    {"timestep", "h"},    {"time_step", "h"},     {"tmax", "t_end"},   {"t_max", "t_end"},
-    {"tfinal", "t_end"},  {"t_final", "t_end"},   {"duration", "t_end"}, {"scheme", "method"},
-    {"integrator", "method"}, {"algorithm", "method"}, {"model", "name"}, {"start", "from"},
-    {"stop", "to"},       {"end", "to"},          {"num", "n"},        {"count", "n"},
-    {"points", "n"},      {"list", "values"},     {"stride", "every"}, {"interval", "every"},
-    {"variables", "vars"}, {"final", "final_state"}, {"traj", "trajectory"},
-    {"synchronization", "sync"}, {"basins", "basin"}};
+    {"dt", "h"}, {"step", "h"}, {"stepsize", "h"}, {"step_size", "h"}, {"timestep", "h"},
+    {"time_step", "h"}, {"tmax", "t_end"}, {"t_max", "t_end"}, {"tfinal", "t_end"},
+    {"t_final", "t_end"}, {"duration", "t_end"}, {"scheme", "method"}, {"integrator", "method"},
+    {"algorithm", "method"}, {"model", "name"}, {"start", "from"}, {"stop", "to"}, {"end", "to"},
+    {"num", "n"}, {"count", "n"}, {"points", "n"}, {"list", "values"}, {"stride", "every"},
+    {"interval", "every"}, {"variables", "vars"}, {"final", "final_state"},
+    {"traj", "trajectory"}, {"synchronization", "sync"}, {"basins", "basin"}};
+// clang-format on
 
 // ---------------------------------------------------------------------------------------------
 // Small helpers
@@ -142,7 +143,9 @@ Names keys_in_written_order(const toml::table& table) {
   return keys;
 }
 
-std::string key_text(std::string_view key) { return is_bare_key(key) ? std::string(key) : toml_string(key); }
+std::string key_text(std::string_view key) {
+  return is_bare_key(key) ? std::string(key) : toml_string(key);
+}
 
 // Shortest text that reads back to the same double (std::to_chars), kept a TOML float.
 std::string float_text(double value) {
@@ -185,13 +188,20 @@ std::string shown(const toml::node& node) {
 
 std::string_view type_name(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    default: return "a date/time";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    default:
+      return "a date/time";
   }
 }
 
@@ -229,10 +239,10 @@ class SpecReader {
 
  private:
   struct AxisDraft {
-    GridAxis axis;             // values already set for { values = [...] }
+    GridAxis axis;  // values already set for { values = [...] }
     const toml::node* node;
     double from = 0.0, to = 0.0;
-    std::int64_t n = 0;        // > 0: values still to come from linspace(from, to, n)
+    std::int64_t n = 0;  // > 0: values still to come from linspace(from, to, n)
     std::int64_t size() const { return n > 0 ? n : std::ssize(axis.values); }
   };
 
@@ -252,7 +262,8 @@ class SpecReader {
 
   [[noreturn]] void fail_type(const toml::node& node, std::string_view key,
                               std::string_view expected) const {
-    fail(&node, fmt::format("{}: expected {}, got {} {}", key, expected, type_name(node), shown(node)));
+    fail(&node,
+         fmt::format("{}: expected {}, got {} {}", key, expected, type_name(node), shown(node)));
   }
 
   [[noreturn]] void fail_value(const toml::node& node, std::string_view key,
@@ -266,9 +277,10 @@ class SpecReader {
       if (contains(allowed, key.str())) continue;
       std::string hint = did_you_mean(key.str(), allowed, prefix);
       if (hint.empty()) hint = elsewhere_hint(key.str(), prefix);
-      fail(&node, fmt::format("unknown key '{}'{}; valid {}: {}", dotted(prefix, key.str()), hint,
-                              prefix.empty() ? "top-level keys" : fmt::format("keys in [{}]", prefix),
-                              fmt::join(allowed, ", ")));
+      fail(&node,
+           fmt::format("unknown key '{}'{}; valid {}: {}", dotted(prefix, key.str()), hint,
+                       prefix.empty() ? "top-level keys" : fmt::format("keys in [{}]", prefix),
+                       fmt::join(allowed, ", ")));
     }
   }
 
@@ -301,9 +313,12 @@ class SpecReader {
 
   double number(const toml::node& node, std::string_view key) const {
     double value = 0.0;
-    if (const auto* i = node.as_integer()) value = static_cast<double>(i->get());
-    else if (const auto* f = node.as_floating_point()) value = f->get();
-    else fail_type(node, key, "a number");
+    if (const auto* i = node.as_integer())
+      value = static_cast<double>(i->get());
+    else if (const auto* f = node.as_floating_point())
+      value = f->get();
+    else
+      fail_type(node, key, "a number");
     if (!std::isfinite(value)) fail_value(node, key, "a finite number");
     return value;
   }
@@ -360,7 +375,8 @@ class SpecReader {
     const Names scenes = names_of(scene_catalog());
     const toml::node* node = doc_.get("scene");
     if (node == nullptr)
-      fail(nullptr, fmt::format("missing [scene] section with name = one of: {}", fmt::join(scenes, ", ")));
+      fail(nullptr,
+           fmt::format("missing [scene] section with name = one of: {}", fmt::join(scenes, ", ")));
     const toml::table& t = table(*node, "scene");
     const toml::node* name = t.get("name");
     if (name == nullptr)
@@ -409,29 +425,34 @@ class SpecReader {
 
   void read_method(const toml::table& t) {
     const toml::node* node = t.get("method");
-    spec_.method = node != nullptr ? string(*node, "integrator.method") : std::string(kDefaultMethod);
+    spec_.method =
+        node != nullptr ? string(*node, "integrator.method") : std::string(kDefaultMethod);
     const MethodInfo* method = find_method(spec_.method);
     const Names methods = names_of(method_catalog());
     if (method == nullptr)
       fail(node, fmt::format("unknown method {}{}; valid methods: {}", toml_string(spec_.method),
                              did_you_mean(spec_.method, methods, ""), fmt::join(methods, ", ")));
-    Names missing;
-    for (const std::string& part : method->needs_split_parts)
-      if (!contains(scene_->split_parts, part)) missing.push_back(part);
+    const Names missing = missing_split_parts(*method);
     if (!missing.empty())
-      fail(node, fmt::format("method {} needs the exact sub-flow(s) {} that scene '{}' does not "
-                             "offer (it offers: {}); methods that work here: {}",
-                             toml_string(spec_.method), fmt::join(missing, ", "), scene_->name,
-                             fmt::join(scene_->split_parts, ", "), fmt::join(usable_methods(), ", ")));
+      fail(node,
+           fmt::format("method {} needs the exact sub-flow(s) {} that scene '{}' does not "
+                       "offer (it offers: {}); methods that work here: {}",
+                       toml_string(spec_.method), fmt::join(missing, ", "), scene_->name,
+                       fmt::join(scene_->split_parts, ", "), fmt::join(usable_methods(), ", ")));
+  }
+
+  // Splitting methods compose exact sub-flows; the scene must offer every one they use.
+  Names missing_split_parts(const MethodInfo& method) const {
+    Names missing;
+    for (const std::string& part : method.needs_split_parts)
+      if (!contains(scene_->split_parts, part)) missing.push_back(part);
+    return missing;
   }
 
   Names usable_methods() const {
     Names usable;
-    for (const MethodInfo& m : method_catalog()) {
-      const bool ok = std::all_of(m.needs_split_parts.begin(), m.needs_split_parts.end(),
-                                  [&](const std::string& p) { return contains(scene_->split_parts, p); });
-      if (ok) usable.push_back(m.name);
-    }
+    for (const MethodInfo& m : method_catalog())
+      if (missing_split_parts(m).empty()) usable.push_back(m.name);
     return usable;
   }
 
@@ -459,7 +480,8 @@ class SpecReader {
     if (node == nullptr) return;
     check_keys(table(*node, "grid"), "grid", axis_names());
     std::vector<AxisDraft> drafts;
-    for (const std::string& name : grid_order_) drafts.push_back(read_axis(name, *node->as_table()->get(name)));
+    for (const std::string& name : grid_order_)
+      drafts.push_back(read_axis(name, *node->as_table()->get(name)));
     check_grid_size(drafts);
     for (AxisDraft& draft : drafts) {
       if (draft.n > 0) draft.axis.values = linspace(draft.from, draft.to, draft.n);
@@ -488,20 +510,25 @@ class SpecReader {
     check_keys(t, key, {"from", "to", "n", "values"});
     if (t.contains("values")) {
       if (t.contains("from") || t.contains("to") || t.contains("n"))
-        fail(&node, fmt::format("{}: give either {{ from, to, n }} or {{ values = [...] }}, not both", key));
+        fail(&node,
+             fmt::format("{}: give either {{ from, to, n }} or {{ values = [...] }}, not both",
+                         key));
       draft.axis.values = numbers(*t.get("values"), key + ".values");
-      if (draft.axis.values.empty()) fail_value(*t.get("values"), key + ".values", "a non-empty array of numbers");
+      if (draft.axis.values.empty())
+        fail_value(*t.get("values"), key + ".values", "a non-empty array of numbers");
       return draft;
     }
     for (const char* part : {"from", "to", "n"})
       if (!t.contains(part))
         fail(&node, fmt::format("{}: missing '{}'; an axis is {{ from = ..., to = ..., n = ... }} "
-                                "(numpy.linspace) or {{ values = [...] }}", key, part));
+                                "(numpy.linspace) or {{ values = [...] }}",
+                                key, part));
     draft.from = number(*t.get("from"), key + ".from");
     draft.to = number(*t.get("to"), key + ".to");
     draft.n = integer(*t.get("n"), key + ".n");
     if (draft.n < 1 || draft.n > kMaxAxisPoints)
-      fail_value(*t.get("n"), key + ".n", fmt::format("an integer from 1 to 2^32 = {}", kMaxAxisPoints));
+      fail_value(*t.get("n"), key + ".n",
+                 fmt::format("an integer from 1 to 2^32 = {}", kMaxAxisPoints));
     return draft;
   }
 
@@ -510,7 +537,8 @@ class SpecReader {
     for (const AxisDraft& draft : drafts) {
       if (draft.size() > kMaxGridPoints / points) {
         Names sizes;
-        for (const AxisDraft& d : drafts) sizes.push_back(fmt::format("{} = {}", d.axis.name, d.size()));
+        for (const AxisDraft& d : drafts)
+          sizes.push_back(fmt::format("{} = {}", d.axis.name, d.size()));
         fail(doc_.get("grid"), fmt::format("the grid has more than 2^40 = {} points ({}); "
                                            "split the sweep into several runs",
                                            kMaxGridPoints, fmt::join(sizes, " x ")));
@@ -525,7 +553,8 @@ class SpecReader {
       if (!std::isfinite(value))  // linspace over a range wider than the largest double
         fail_value(*draft.node, key, "from and to whose difference is a finite number");
       if (must_be_positive(draft.axis.target) && !(value > 0.0))
-        fail_value(*draft.node, key, fmt::format("values > 0 ({} must be positive)", draft.axis.target));
+        fail_value(*draft.node, key,
+                   fmt::format("values > 0 ({} must be positive)", draft.axis.target));
     }
   }
 
@@ -562,7 +591,8 @@ class SpecReader {
     } else if (node->is_table()) {
       settings = node->as_table();
     } else {
-      fail_type(*node, key, fmt::format("true, false or a table {{ {} = ... }}", fmt::join(keys, ", ")));
+      fail_type(*node, key,
+                fmt::format("true, false or a table {{ {} = ... }}", fmt::join(keys, ", ")));
     }
     if (!contains(scene_->measures, name))
       fail(node, fmt::format("{}: scene '{}' does not support '{}'; it supports: {}", key,
@@ -581,14 +611,17 @@ class SpecReader {
       return;
     }
     const toml::array& list = array(*vars, "measures.final_state.vars");
-    if (list.empty()) fail_value(*vars, "measures.final_state.vars", "at least one variable (or final_state = false)");
+    if (list.empty())
+      fail_value(*vars, "measures.final_state.vars",
+                 "at least one variable (or final_state = false)");
     Names chosen;
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string key = fmt::format("measures.final_state.vars[{}]", i);
       const std::string var = string(*list.get(i), key);
       if (!contains(all, var))
-        fail_value(*list.get(i), key, fmt::format("a variable of scene '{}': {}{}", scene_->name,
-                                                  fmt::join(all, ", "), did_you_mean(var, all, "")));
+        fail_value(*list.get(i), key,
+                   fmt::format("a variable of scene '{}': {}{}", scene_->name, fmt::join(all, ", "),
+                               did_you_mean(var, all, "")));
       if (contains(chosen, var)) fail_value(*list.get(i), key, "each variable once");
       chosen.push_back(var);
     }
@@ -604,7 +637,8 @@ class SpecReader {
     TrajectoryMeasure trajectory;
     if (const toml::node* every = t->get("every")) {
       trajectory.every = integer(*every, "measures.trajectory.every");
-      if (trajectory.every < 1) fail_value(*every, "measures.trajectory.every", "an integer >= 1 (steps between samples)");
+      if (trajectory.every < 1)
+        fail_value(*every, "measures.trajectory.every", "an integer >= 1 (steps between samples)");
     }
     spec_.measures.trajectory = trajectory;
   }
@@ -627,7 +661,8 @@ class SpecReader {
       const std::vector<double> ends = numbers(*window, key);
       if (ends.size() != 2) fail_value(*window, key, "two numbers [from, to]");
       if (!(0.0 <= ends[0] && ends[0] < ends[1] && ends[1] <= spec_.t_end))
-        fail_value(*window, key, fmt::format("[from, to] with 0 <= from < to <= t_end = {}", spec_.t_end));
+        fail_value(*window, key,
+                   fmt::format("[from, to] with 0 <= from < to <= t_end = {}", spec_.t_end));
       if (ends[1] - ends[0] < spec_.h)
         fail_value(*window, key, fmt::format("a window at least one step h = {} long", spec_.h));
       sync = SyncMeasure{ends[0], ends[1]};
@@ -649,8 +684,9 @@ toml::table parse_document(std::string_view text, std::string_view source_name) 
   try {
     return toml::parse(text, std::string(source_name));
   } catch (const toml::parse_error& error) {
-    throw InputError(fmt::format("{}:{}:{}: malformed TOML: {}", source_name, error.source().begin.line,
-                                 error.source().begin.column, error.description()));
+    throw InputError(fmt::format("{}:{}:{}: malformed TOML: {}", source_name,
+                                 error.source().begin.line, error.source().begin.column,
+                                 error.description()));
   }
 }
 
@@ -659,16 +695,17 @@ Names keys_in_source_order(const toml::node* node) {
   std::vector<std::pair<toml::source_position, std::string>> keyed;
   if (const toml::table* t = node != nullptr ? node->as_table() : nullptr)
     for (const auto& [key, value] : *t) keyed.emplace_back(value.source().begin, key.str());
-  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   Names keys;
   for (auto& entry : keyed) keys.push_back(std::move(entry.second));
   return keys;
 }
 
 struct Override {
-  std::string arg;                // as given, for messages
-  Names path;                     // the dotted key, split
-  toml::table parsed;             // "KEY = VALUE" parsed: tables it creates carry the --set origin
+  std::string arg;     // as given, for messages
+  Names path;          // the dotted key, split
+  toml::table parsed;  // "KEY = VALUE" parsed: tables it creates carry the --set origin
 };
 
 std::string trimmed(std::string_view text) {
@@ -684,8 +721,10 @@ Names split_key(const std::string& key, const std::string& arg) {
     const std::size_t dot = key.find('.', begin);
     path.push_back(key.substr(begin, dot - begin));
     if (!is_bare_key(path.back()))
-      throw InputError(fmt::format("--set {}: '{}' is not a dotted key of plain names "
-                                   "(like integrator.h or grid.q_0.n)", arg, key));
+      throw InputError(
+          fmt::format("--set {}: '{}' is not a dotted key of plain names "
+                      "(like integrator.h or grid.q_0.n)",
+                      arg, key));
     if (dot == std::string::npos) return path;
     begin = dot + 1;
   }
@@ -697,10 +736,22 @@ bool is_bare_word(std::string_view value) {
   return is_bare_key(value) && std::isalpha(static_cast<unsigned char>(value.front()));
 }
 
+// "KEY = VALUE" must hold nothing but KEY: VALUE could smuggle in more keys ("1\nx = 2").
+void check_single_value(const Override& edit) {
+  const toml::table* level = &edit.parsed;
+  for (const std::string& key : edit.path) {
+    if (level->size() != 1)
+      throw InputError(fmt::format("--set {}: the value must be a single TOML value", edit.arg));
+    level = level->get(key)->as_table();  // nullptr at the value itself, ending the walk
+    if (level == nullptr) return;
+  }
+}
+
 Override parse_override(const std::string& arg) {
   const std::size_t eq = arg.find('=');
   if (eq == std::string::npos)
-    throw InputError(fmt::format("--set {}: expected KEY=VALUE, e.g. --set integrator.h=0.005", arg));
+    throw InputError(
+        fmt::format("--set {}: expected KEY=VALUE, e.g. --set integrator.h=0.005", arg));
   const std::string key = trimmed(std::string_view(arg).substr(0, eq));
   const std::string value = trimmed(std::string_view(arg).substr(eq + 1));
   if (key.empty()) throw InputError(fmt::format("--set {}: empty key before '='", arg));
@@ -711,11 +762,13 @@ Override parse_override(const std::string& arg) {
     result.parsed = toml::parse(key + " = " + value, origin);
   } catch (const toml::parse_error& error) {
     if (!is_bare_word(value))
-      throw InputError(fmt::format("--set {}: {} is not a TOML value ({}); strings need quotes, "
-                                   "e.g. --set 'scene.name=\"double_well\"'",
-                                   arg, value, error.description()));
+      throw InputError(
+          fmt::format("--set {}: {} is not a TOML value ({}); strings need quotes, "
+                      "e.g. --set 'scene.name=\"double_well\"'",
+                      arg, value, error.description()));
     result.parsed = toml::parse(key + " = " + toml_string(value), origin);
   }
+  check_single_value(result);
   return result;
 }
 
@@ -730,8 +783,6 @@ void apply_override(toml::table& doc, Override& edit) {
   for (std::size_t i = 0; i < edit.path.size(); ++i) {
     const std::string& key = edit.path[i];
     toml::node* node = incoming->get(key);
-    if (node == nullptr || incoming->size() != 1)  // VALUE smuggled in more keys ("1\nx = 2")
-      throw InputError(fmt::format("--set {}: the value must be a single TOML value", edit.arg));
     toml::node* existing = target->get(key);
     if (existing == nullptr || i + 1 == edit.path.size()) {
       move_into(*target, key, *node);
@@ -778,7 +829,8 @@ std::string read_text_file(const std::string& path) {
   if (std::filesystem::is_directory(path, ignored))
     throw InputError(fmt::format("cannot read spec file '{}': it is a directory", path));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("cannot read spec file '{}': {}", path, std::strerror(errno)));
+  if (!in)
+    throw InputError(fmt::format("cannot read spec file '{}': {}", path, std::strerror(errno)));
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(fmt::format("cannot read spec file '{}': read error", path));
