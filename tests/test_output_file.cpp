@@ -12,6 +12,8 @@
 #include <hdf5_hl.h>
 #include <mpi.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -20,6 +22,8 @@
 #include <functional>
 #include <iterator>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "io/output_file.hpp"
@@ -165,7 +169,8 @@ struct Reader {
 std::vector<hsize_t> shape_of(hid_t file, const std::string& name) {
   const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
   const hid_t space = H5Dget_space(dataset);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
+  std::vector<hsize_t> dims(
+      static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
   H5Sget_simple_extent_dims(space, dims.data(), nullptr);
   H5Sclose(space);
   H5Dclose(dataset);
@@ -247,6 +252,25 @@ void expect_scales(hid_t file, const std::string& name, const std::vector<std::s
 }
 
 // ---------------------------------------------------------------------------------------------
+// Layouts.
+
+DatasetSpec measure(const std::string& name, const std::string& long_name, bool time = false) {
+  DatasetSpec spec;
+  spec.name = name;
+  spec.long_name = long_name;
+  spec.has_time_dim = time;
+  return spec;
+}
+
+DatasetSpec flags(const std::string& name, ElementType type, const std::string& long_name,
+                  std::vector<int> values, const std::string& meanings) {
+  DatasetSpec spec = measure(name, long_name);
+  spec.type = type;
+  spec.flag_values = std::move(values);
+  spec.flag_meanings = meanings;
+  return spec;
+}
+
 // The 2-axis layout (7 x 5, neither divisible by the rank counts or block sizes) with a time axis.
 
 constexpr std::int64_t kNq = 7;
@@ -265,19 +289,21 @@ FileLayout grid_layout() {
   layout.axes.push_back({"q_0", linspace(-3.0, 3.0, kNq), "initial value of q", ""});
   layout.axes.push_back({"gamma", linspace(0.1, 0.5, kNgamma), "damping coefficient", ""});
   layout.time = CoordinateSpec{"t", linspace(0.0, 1.5, kNt), "time", "1"};
-  layout.datasets.push_back({"final_q", ElementType::float64, false, "q at t_end", "", {}, "", {}});
-  layout.datasets.push_back({"traj_q", ElementType::float64, true, "q along the trajectory", "",
-                             {}, "", {}});
-  layout.datasets.push_back({"settle_time", ElementType::float64, false, "settling time", "1",
-                             {}, "", {}});
-  layout.datasets.push_back({"status", ElementType::uint8, false, "integration status", "",
-                             {0, 1, 2}, "ok diverged breakdown", {}});
-  layout.datasets.push_back({"basin", ElementType::int8, false, "basin of attraction", "",
-                             {-1, 0, 1}, "left_well undecided right_well", {}});
-  layout.datasets.push_back({"label", ElementType::int8, false, "partly written label", "",
-                             {-1, 1}, "minus plus", -128.0});
-  layout.text_attributes = {{"title", "OutputFile test"}, {"Conventions", "CF-1.8"},
-                            {"empty", ""}, {"x", "1"}};
+  DatasetSpec label =
+      flags("label", ElementType::int8, "partly written label", {-1, 1}, "minus plus");
+  label.fill_value = -128.0;
+  layout.datasets = {
+      measure("final_q", "q at t_end"),
+      measure("traj_q", "q along the trajectory", /*time=*/true),
+      measure("settle_time", "settling time"),
+      flags("status", ElementType::uint8, "integration status", {0, 1, 2}, "ok diverged breakdown"),
+      flags("basin", ElementType::int8, "basin of attraction", {-1, 0, 1},
+            "left_well undecided right_well"),
+      label,
+  };
+  layout.datasets[2].units = "1";
+  layout.text_attributes = {
+      {"title", "OutputFile test"}, {"Conventions", "CF-1.8"}, {"empty", ""}, {"x", "1"}};
   layout.number_attributes = {{"h", 0.01}, {"t_end", 1.5}};
   return layout;
 }
@@ -400,7 +426,8 @@ TEST(OutputFile, ThreeAxesEveryDistribution) {
   const int size = world_size();
   std::vector<std::string> names = {"ragged7", "ragged13", "blocks", "last_rank", "empty"};
   std::vector<std::vector<PointRange>> distributions = {
-      ragged_ranges(kPts, rank, size, 7), ragged_ranges(kPts, rank, size, 13),
+      ragged_ranges(kPts, rank, size, 7),
+      ragged_ranges(kPts, rank, size, 13),
       block_ranges(kPts, rank, size),
       rank == size - 1 ? std::vector<PointRange>{{0, kPts}} : std::vector<PointRange>{},
       {}};
@@ -409,7 +436,7 @@ TEST(OutputFile, ThreeAxesEveryDistribution) {
     distributions.push_back(gappy_ranges(kPts, rank, size, m));
   }
   for (const std::string& name : names) {
-    layout.datasets.push_back({name, ElementType::float64, true, name, "", {}, "", {}});
+    layout.datasets.push_back(measure(name, name, /*time=*/true));
   }
   const auto f = [](std::int64_t i, std::int64_t j) { return 10.0 * static_cast<double>(i) + j; };
   {
@@ -443,13 +470,12 @@ TEST(OutputFile, ThreeAxesEveryDistribution) {
 FileLayout scalar_layout() {
   FileLayout layout;
   layout.time = CoordinateSpec{"t", linspace(0.0, 5.0, 6), "time", ""};
-  layout.datasets.push_back({"final_q", ElementType::float64, false, "q at t_end", "", {}, "", {}});
-  layout.datasets.push_back({"status", ElementType::uint8, false, "integration status", "",
-                             {0, 1, 2}, "ok diverged breakdown", {}});
-  layout.datasets.push_back({"traj_q", ElementType::float64, true, "q along the trajectory", "",
-                             {}, "", {}});
-  layout.datasets.push_back({"final_p", ElementType::float64, false, "never written", "", {}, "",
-                             {}});
+  layout.datasets = {
+      measure("final_q", "q at t_end"),
+      flags("status", ElementType::uint8, "integration status", {0, 1, 2}, "ok diverged breakdown"),
+      measure("traj_q", "q along the trajectory", /*time=*/true),
+      measure("final_p", "never written"),
+  };
   layout.text_attributes = {{"title", "single trajectory"}};
   return layout;
 }
@@ -521,13 +547,15 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// No timestamps or other run-dependent bytes: reruns can be compared with cmp.
+// No timestamps or other run-dependent bytes: reruns can be compared with cmp. HDF5 timestamps
+// have one-second resolution, hence the pause.
 TEST(OutputFile, IdenticalRunsGiveIdenticalBytes) {
   const std::string first = sibling_path("same1");
   const std::string second = sibling_path("same2");
   remove_on_rank0(first);
   remove_on_rank0(second);
   write_grid_file(first);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
   write_grid_file(second);
   if (world_rank() != 0) return;
   const std::string a = file_bytes(first);

@@ -725,6 +725,8 @@ const std::vector<BadSpec> kBadSpecs = {
     {"set_bad_value", kDw, {"integrator.h=-1"},
      "--set integrator.h=-1: integrator.h = -1: expected a number > 0"},
     {"set_bad_axis", kSweep, {"grid.q_0.n=0"}, "--set grid.q_0.n=0: grid.q_0.n = 0"},
+    {"set_n_on_values_axis", kSweep, {"grid.p_0.n=4"},
+     "--set grid.p_0.n=4: grid.p_0: give either { from, to, n } or { values = [...] }, not both"},
     {"set_unknown_scene", kDw, {"scene.name=duble_well"},
      "--set scene.name=duble_well: unknown scene \"duble_well\""},
 };

@@ -107,11 +107,22 @@ class BlockRunner {
 
   // Double well: E = p²/2 + U(q) never increases for γ ≥ 0, so once E < U(0) = a⁴/2 (less a
   // margin for the integrator's energy error) the lane can never cross q = 0 again.
+  // The margin covers the integrator's energy oscillation, which scales like E·(hω)² with
+  // E ~ a⁴ and ω ~ a: margin = C·h²·a⁶ (C in the plan, measured in the basin tests).
+  double trap_energy(const Params& c) const {
+    if constexpr (std::is_same_v<S, DoubleWell>) {
+      if (plan_.map.basin >= 0 && c.gamma >= 0.0) {
+        double a2 = c.a * c.a, h = plan_.spec.h;
+        return 0.5 * a2 * a2 - plan_.basin_margin_coefficient * (h * h) * (a2 * a2 * a2);
+      }
+    }
+    return -std::numeric_limits<double>::infinity();
+  }
+
   void arm_trap(int i, const Params& c) {
     if constexpr (std::is_same_v<S, DoubleWell>) {
-      if (plan_.map.basin < 0 || !(c.gamma >= 0.0)) return;
       a2_[i] = c.a * c.a;
-      trap_energy_[i] = 0.5 * a2_[i] * a2_[i] - plan_.basin_margin;
+      trap_energy_[i] = trap_energy(c);
     }
   }
 
@@ -280,11 +291,9 @@ class BlockRunner {
 
   void check_trap(Book& b, const LaneState<D>& x, const Params& c) {
     if constexpr (std::is_same_v<S, DoubleWell>) {
-      if (!(c.gamma >= 0.0)) return;
       double well = x.q[0] * x.q[0] - c.a * c.a;
       double energy = 0.5 * (x.p[0] * x.p[0]) + 0.5 * (well * well);  // as in screen()
-      double a2 = c.a * c.a;
-      if (energy < 0.5 * a2 * a2 - plan_.basin_margin) {
+      if (energy < trap_energy(c)) {
         b.trapped = true;
         b.settle_time = static_cast<double>(b.n) * plan_.spec.h;
       }

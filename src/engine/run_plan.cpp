@@ -93,9 +93,6 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     map.settle_time = add({"settle_time", ElementType::float64, false,
                            "time at which the energy trap decided the basin", "time", {}, "",
                            std::nullopt});
-    // The hybrid leap-frog's energy error on the double well is O(h²) (see the basin tests
-    // for the measured bound); the margin is four times the largest rise measured.
-    basin_margin = 4.0 * spec.h * spec.h;
   }
 
   if (measures.sync) {

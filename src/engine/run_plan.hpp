@@ -39,7 +39,10 @@ struct RunPlan {
   int chunk = 16;                 // steps between looks at the lanes (divides trajectory.every)
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
-  double basin_margin = 0.0;      // energy below a⁴/2 by which a lane counts as trapped
+  // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. The hybrid leap-frog's energy
+  // rises by at most 0.82·h²·a⁶ after a lane dips below a⁴/2 (worst case γ = 0, h ≤ 0.2;
+  // measured in test_basin.cpp), so C = 2 leaves a factor 2.4.
+  double basin_margin_coefficient = 2.0;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
 

@@ -34,14 +34,14 @@ class Handle {
   Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
   Handle& operator=(Handle&& other) noexcept {
     if (this != &other) {
-      reset();
+      close();
       id_ = std::exchange(other.id_, H5I_INVALID_HID);
     }
     return *this;
   }
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
-  ~Handle() { reset(); }
+  ~Handle() { close(); }
 
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
@@ -53,7 +53,6 @@ class Handle {
   }
 
  private:
-  void reset() { close(); }
   hid_t id_ = H5I_INVALID_HID;
 };
 
@@ -186,8 +185,8 @@ TypedValue typed(double value, ElementType type) {
 // them as Python str whatever their length, whereas fixed-length strings of length one come back
 // as bytes.
 
-void write_attribute(hid_t object, const std::string& name, hid_t file_t, hid_t mem_t,
-                     hid_t space, const void* value, const std::string& path) {
+void write_attribute(hid_t object, const std::string& name, hid_t file_t, hid_t mem_t, hid_t space,
+                     const void* value, const std::string& path) {
   const std::string what = "cannot write attribute '" + name + "'";
   AttributeHandle attribute(
       check(H5Acreate2(object, name.c_str(), file_t, space, H5P_DEFAULT, H5P_DEFAULT), path, what));
@@ -222,19 +221,24 @@ void write_typed_attribute(hid_t object, const std::string& name, double value, 
 }
 
 // 1-D array of the dataset's own type (CF: flag_values has the variable's type).
+template <typename T>
+void write_flag_values_as(hid_t object, const std::vector<int>& values, ElementType type,
+                          const std::string& path) {
+  const std::vector<T> converted(values.begin(), values.end());  // validate() checked the range
+  const hsize_t n = converted.size();
+  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), path, "cannot write 'flag_values'"));
+  write_attribute(object, "flag_values", file_type(type), memory_type(type), space.get(),
+                  converted.data(), path);
+}
+
 void write_flag_values(hid_t object, const std::vector<int>& values, ElementType type,
                        const std::string& path) {
-  const std::string what = "cannot write attribute 'flag_values'";
-  const hsize_t n = values.size();
-  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), path, what));
-  std::vector<double> d(values.begin(), values.end());
-  std::vector<std::int8_t> i8(values.begin(), values.end());
-  std::vector<std::uint8_t> u8(values.begin(), values.end());
-  const void* data = type == ElementType::int8    ? static_cast<const void*>(i8.data())
-                     : type == ElementType::uint8 ? static_cast<const void*>(u8.data())
-                                                  : static_cast<const void*>(d.data());
-  write_attribute(object, "flag_values", file_type(type), memory_type(type), space.get(), data,
-                  path);
+  switch (type) {
+    case ElementType::int8: return write_flag_values_as<std::int8_t>(object, values, type, path);
+    case ElementType::uint8: return write_flag_values_as<std::uint8_t>(object, values, type, path);
+    case ElementType::float64: break;
+  }
+  write_flag_values_as<double>(object, values, type, path);
 }
 
 void write_descriptive_attributes(hid_t object, const std::string& long_name,
@@ -283,7 +287,7 @@ struct Box {
 void decompose(std::int64_t begin, std::int64_t end, const std::vector<hsize_t>& dims,
                std::size_t level, std::vector<hsize_t>& prefix, std::vector<Box>& boxes) {
   if (begin >= end) return;
-  std::int64_t row = 1;  // points per index of dims[level]
+  std::int64_t row = 1;  // points per index of dims[level]: one "row" of the sub-grid
   for (std::size_t d = level + 1; d < dims.size(); ++d) row *= static_cast<std::int64_t>(dims[d]);
 
   const auto emit_rows = [&](std::int64_t first, std::int64_t count) {
@@ -309,8 +313,8 @@ void decompose(std::int64_t begin, std::int64_t end, const std::vector<hsize_t>&
     return;
   }
   std::int64_t first_row = begin / row;
-  const std::int64_t last_row = (end - 1) / row;
-  if (first_row == last_row && !(begin % row == 0 && end % row == 0)) {
+  const bool whole_rows = begin % row == 0 && end % row == 0;
+  if (first_row == (end - 1) / row && !whole_rows) {  // inside a single row
     recurse_in_row(first_row, begin % row, end - first_row * row);
     return;
   }
@@ -351,8 +355,7 @@ void select_runs(hid_t file_space, const std::vector<PointRange>& runs,
       box.start.push_back(0);
       box.count.push_back(time_length);
     }
-    check(H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(),
-                              nullptr),
+    check(H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(), nullptr),
           path, what);
     op = H5S_SELECT_OR;
   }
@@ -395,11 +398,9 @@ struct OutputFile::Impl {
                       const void* data, const std::string& name) const;
   std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
   const Dataset* find(const std::string& name) const;
-  std::string request_problem(const std::string& name,
-                              const std::vector<PointRange>& ranges) const;
+  std::string request_problem(const std::string& name, const std::vector<PointRange>& ranges) const;
   void create(const FileLayout& layout);
-  void write(const Dataset& target, const std::vector<PointRange>& ranges,
-             const void* data) const;
+  void write(const Dataset& target, const std::vector<PointRange>& ranges, const void* data) const;
   bool close_all();
   void abandon() noexcept;
   ~Impl();
@@ -471,9 +472,8 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
   check(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
         partial_path, what);
-  file = FileHandle(
-      check(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), partial_path,
-            what));
+  file = FileHandle(check(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
+                          partial_path, what));
   for (const auto& [name, value] : layout.text_attributes) {
     write_text_attribute(file.get(), name, value, partial_path);
   }
@@ -507,18 +507,17 @@ DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordina
   SpaceHandle scalar(check(H5Screate(H5S_SCALAR), partial_path, what));
   write_attribute(dataset.get(), "_Netcdf4Dimid", H5T_STD_I32LE, H5T_NATIVE_INT, scalar.get(), &id,
                   partial_path);
-  write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units,
-                               partial_path);
+  write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units, partial_path);
   return dataset;
 }
 
 void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
   const std::string what = "cannot create dataset '" + spec.name + "'";
   const std::vector<hsize_t> shape = shape_of(spec);
-  SpaceHandle space(check(shape.empty() ? H5Screate(H5S_SCALAR)
-                                        : H5Screate_simple(static_cast<int>(shape.size()),
-                                                           shape.data(), nullptr),
-                          partial_path, what));
+  SpaceHandle space(
+      check(shape.empty() ? H5Screate(H5S_SCALAR)
+                          : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
+            partial_path, what));
   std::optional<double> fill = spec.fill_value;
   if (!fill && spec.type == ElementType::float64) fill = std::numeric_limits<double>::quiet_NaN();
   PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, fill);

@@ -509,10 +509,11 @@ class SpecReader {
     const toml::table& t = *node.as_table();
     check_keys(t, key, {"from", "to", "n", "values"});
     if (t.contains("values")) {
-      if (t.contains("from") || t.contains("to") || t.contains("n"))
-        fail(&node,
-             fmt::format("{}: give either {{ from, to, n }} or {{ values = [...] }}, not both",
-                         key));
+      for (const char* part : {"from", "to", "n"})  // blame the key: it may come from --set
+        if (const toml::node* extra = t.get(part))
+          fail(extra, fmt::format("{}: give either {{ from, to, n }} or {{ values = [...] }}, "
+                                  "not both",
+                                  key));
       draft.axis.values = numbers(*t.get("values"), key + ".values");
       if (draft.axis.values.empty())
         fail_value(*t.get("values"), key + ".values", "a non-empty array of numbers");
@@ -789,9 +790,10 @@ void apply_override(toml::table& doc, Override& edit) {
       return;
     }
     if (!existing->is_table())
-      throw InputError(fmt::format("--set {}: '{}' is {} in the spec, not a table", edit.arg,
-                                   fmt::join(edit.path.begin(), edit.path.begin() + i + 1, "."),
-                                   type_name(*existing)));
+      throw InputError(fmt::format(
+          "--set {0}: '{1}' is {2} in the spec, not a table; set it whole (--set {1}=...)",
+          edit.arg, fmt::join(edit.path.begin(), edit.path.begin() + i + 1, "."),
+          type_name(*existing)));
     target = existing->as_table();
     incoming = node->as_table();
   }

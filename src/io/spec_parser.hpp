@@ -15,6 +15,11 @@
 // - sync = true or sync = {} measures over the second half of the run, [t_end / 2, t_end].
 // - The initial lambda (and a lambda_0 axis) must be > 0: lambda is an integrating factor and
 //   the kernel carries ln(lambda).
+// - Limits, refused with a message: at most 2^40 grid points, 2^32 points per axis, 2^53 steps.
+// - spec_text is the document after --set in a fixed layout that reads back to the same RunSpec:
+//   title, then [scene] [initial] [integrator] [grid] [measures], every value inline, the keys
+//   name, method, h, t_end, from, to, n first, grid axes in grid order, floats in their shortest
+//   exact form; comments are dropped.
 // - A --set VALUE that is not valid TOML but is a bare word (letters, digits, _ and -) is taken
 //   as a string, because the shell eats the quotes of --set scene.name="double_well".
 #pragma once
