@@ -47,7 +47,7 @@ void check_tile_against_scalar_steps() {
     params[i] = S::params_from(values);
     LaneState<D> x{};
     for (int d = 0; d < D; ++d) x.q[d] = u(rng), x.p[d] = u(rng);
-    x.z = u(rng);
+    x.z = 1.0 + 0.5 * u(rng) / 1.5;  // z > 0: scene B's z' = … − γz² runs away for z ≪ 0
     x.mu = u(rng);
     M::start<S>(x, params[i]);
     lanes[i] = x;
