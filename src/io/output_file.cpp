@@ -503,10 +503,9 @@ DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordina
                  coordinate.values.data(), coordinate.name);
   check(H5DSset_scale(dataset.get(), coordinate.name.c_str()), partial_path, what);
   // netCDF-C numbers dimensions by this (h5netcdf hides it); harmless for other readers.
-  const int id = dim_id;
   SpaceHandle scalar(check(H5Screate(H5S_SCALAR), partial_path, what));
-  write_attribute(dataset.get(), "_Netcdf4Dimid", H5T_STD_I32LE, H5T_NATIVE_INT, scalar.get(), &id,
-                  partial_path);
+  write_attribute(dataset.get(), "_Netcdf4Dimid", H5T_STD_I32LE, H5T_NATIVE_INT, scalar.get(),
+                  &dim_id, partial_path);
   write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units, partial_path);
   return dataset;
 }
