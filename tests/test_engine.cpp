@@ -14,6 +14,7 @@
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"
+#include "io/spec_parser.hpp"
 #include "support/run_in_memory.hpp"
 
 namespace cs {
@@ -126,6 +127,48 @@ TEST(EngineBlocks, AnySplitGivesTheSameBits) {
   auto whole_sync = test::run_in_memory(sync);
   for (std::int64_t block : {1, 10})
     expect_identical(whole_sync, test::run_in_memory(sync, {}, block));
+}
+
+// Every lane of a basin map against scalar steps of its own initial state. Lanes stop early at
+// different times (refilling their slots at random), and the step count is not a multiple of
+// the engine's chunk, so lanes reach the finisher tile out of step with each other (an
+// overflow of that tile once went unnoticed here; UBSan's bounds check sees it).
+TEST(EngineBlocks, EveryLaneEqualsScalarStepsThroughTheFinisher) {
+  auto r = test::run_in_memory(R"(
+    [scene]
+    name = "double_well"
+    [integrator]
+    h = 0.01
+    t_end = 10.07
+    [grid]
+    q_0 = { from = -2.0, to = 2.0, n = 41 }
+    p_0 = { from = -1.5, to = 1.5, n = 37 }
+    [measures]
+    basin = {}
+    final_state = true)");
+  ParamsOf<DoubleWell, double> c{1.0, 0.1};
+  const auto q0 = linspace(-2.0, 2.0, 41), p0 = linspace(-1.5, 1.5, 37);
+  int early = 0;
+  for (std::size_t i = 0; i < q0.size(); ++i) {
+    for (std::size_t j = 0; j < p0.size(); ++j) {
+      std::size_t cell = i * p0.size() + j;
+      double settle = r["settle_time"][cell];
+      long steps = std::isnan(settle) ? 1007 : std::lround(settle / 0.01);
+      early += steps < 1007;
+      LaneState<1> x{};
+      x.q[0] = q0[i];
+      x.p[0] = p0[j];
+      x.z = 1.0;
+      HybridLeapfrog::start<DoubleWell>(x, c);
+      auto k = HybridLeapfrog::coefficients<DoubleWell>(0.01, c, x);
+      for (long s = 0; s < steps; ++s) HybridLeapfrog::step<DoubleWell, Carry{true, true}>(x, c, k);
+      ASSERT_TRUE(same_bits(r["final_q"][cell], x.q[0])) << "cell " << cell << " settle " << settle << " steps " << steps << " q " << r["final_q"][cell] << " vs " << x.q[0];
+      ASSERT_TRUE(same_bits(r["final_p"][cell], x.p[0])) << "cell " << cell;
+      ASSERT_TRUE(same_bits(r["final_z"][cell], x.z)) << "cell " << cell;
+      ASSERT_TRUE(same_bits(r["final_log_lambda"][cell], x.mu)) << "cell " << cell;
+    }
+  }
+  EXPECT_GT(early, 300);  // enough lanes stop early to scramble the slots
 }
 
 }  // namespace

@@ -25,6 +25,12 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
   options.quiet = args.quiet;
   options.command_line = args.command_line;
   SweepSummary s = run_sweep(spec, options, comm);
+  if (s.already_complete) {
+    if (rank == 0 && !args.quiet)
+      fmt::print(stderr, "contactsweep: {} is already complete for this spec; nothing to do\n",
+                 options.output);
+    return 0;
+  }
   if (rank == 0 && !args.quiet) {
     double rate = static_cast<double>(s.points) * static_cast<double>(spec.steps) / s.seconds;
     fmt::print(stderr,

@@ -149,18 +149,20 @@ class BlockRunner {
       finish(b, x, c, LaneStatus::breakdown);
       return false;
     }
+    observe(b, x, c);
+    if (b.trapped && basin_early_stop_) {  // decided before the first step
+      finish(b, x, c, LaneStatus::ok);
+      return false;
+    }
     main_.set_lane(i, x);
     main_.params[i] = c;
     main_.coef[i] = coef;
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
     arm_trap(i, c);
-    observe(main_book_[i], x, c);
+    if (b.trapped) trap_energy_[i] = -std::numeric_limits<double>::infinity();
     ++active_;
-    if (steps_ < plan_.chunk) {  // a run shorter than one chunk is all remainder
-      if (fin_count_ == W) run_finisher();
-      move_to_finisher(i);
-    }
+    if (steps_ < plan_.chunk) move_to_finisher(i);  // a run shorter than one chunk
     return true;
   }
 
@@ -238,6 +240,7 @@ class BlockRunner {
   }
 
   void move_to_finisher(int i) {
+    if (fin_count_ == W) run_finisher();
     int j = fin_count_++;
     fin_.set_lane(j, main_.lane(i));
     fin_.params[j] = main_.params[i];

@@ -3,6 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -11,6 +14,8 @@
 
 #include "engine/run_plan.hpp"
 #include "io/output_file.hpp"
+#include "io/output_inspect.hpp"
+#include "parallel/journal.hpp"
 #include "parallel/progress.hpp"
 #include "version.hpp"
 
@@ -106,6 +111,55 @@ std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& bloc
   return n;
 }
 
+// How this invocation relates to what an earlier one left at the output path.
+enum class Start { fresh, resume, complete };
+
+// Decides from the file system alone (every rank sees the same), before anything is changed.
+Start decide_start(const RunSpec& spec, const SweepOptions& options, const Journal& journal,
+                   std::int64_t& block_size) {
+  const bool output_exists = std::filesystem::exists(options.output);
+  if (options.force) return Start::fresh;
+  if (output_exists) {
+    if (!options.resume)
+      throw InputError("output '" + options.output +
+                       "' exists; pass --force to replace it or --resume to continue that run");
+    auto spec_text = read_spec_attribute(options.output);
+    if (spec_text && *spec_text == spec.spec_text) return Start::complete;
+    throw InputError("--resume: output '" + options.output +
+                     "' was not made by this spec (after --set); pass --force to replace it");
+  }
+  if (!journal.exists()) return Start::fresh;
+  if (!options.resume)
+    throw InputError("an unfinished run of '" + options.output + "' left its journal in '" +
+                     journal.directory() +
+                     "'; pass --resume to continue it or --force to discard it");
+  auto recorded = journal.recorded_identity();
+  if (!recorded)
+    throw InputError("--resume: '" + journal.directory() +
+                     "' has no readable manifest; pass --force to start afresh");
+  if (recorded->spec_text != spec.spec_text)
+    throw InputError("--resume: the unfinished run in '" + journal.directory() +
+                     "' was made by a different spec (after --set); pass --force to discard it");
+  if (recorded->version != kVersion)
+    throw InputError("--resume: the unfinished run was made by contactsweep " +
+                     recorded->version + ", this is " + kVersion +
+                     "; results could differ, pass --force to start afresh");
+  block_size = recorded->block_size;
+  return Start::resume;
+}
+
+// Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N]): the process kills itself with SIGKILL at a
+// chosen point, so that tests can interrupt real runs deterministically. Stages: `block`
+// (after the N-th saved block of this rank), `write` (HDF5 file open, nothing committed),
+// `commit` (output in place, journal not yet removed).
+void test_kill_point(const char* stage, std::int64_t count = 0) {
+  static const char* spec = std::getenv("CONTACTSWEEP_TEST_KILL");
+  if (spec == nullptr) return;
+  std::string s(spec), name = s.substr(0, s.find(':'));
+  std::int64_t at = s.find(':') == std::string::npos ? 0 : std::stoll(s.substr(s.find(':') + 1));
+  if (name == stage && count == at) std::raise(SIGKILL);
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm) {
@@ -115,38 +169,61 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   RunPlan plan(spec, *scene, *method);
   SweepSummary summary;
   summary.points = plan.grid.size();
+  auto start_time = std::chrono::steady_clock::now();
 
-  if (std::filesystem::exists(options.output) && !options.force) {
-    if (!options.resume)
-      throw InputError("output '" + options.output +
-                       "' exists; pass --force to replace it or --resume to continue it");
-    // TODO(resume): a finished file with the same spec is complete; continuing a killed run
-    // needs the tile journal (issue 5).
-    throw InputError("output '" + options.output +
-                     "' exists and --resume of finished outputs is not implemented yet; "
-                     "pass --force");
+  const int threads = omp_get_max_threads();
+  std::int64_t block_size = choose_block_size(plan.grid.size(), c.size, threads);
+  Journal journal(options.output);
+  Start start = decide_start(spec, options, journal, block_size);
+  MPI_Barrier(comm);  // every rank has looked before rank 0 changes anything
+  if (start == Start::complete) {
+    if (c.rank == 0) journal.remove();  // left over if a run was killed right after its commit
+    summary.already_complete = true;
+    return summary;
   }
+  if (start == Start::fresh && c.rank == 0)
+    journal.create({spec.spec_text, kVersion, plan.grid.size(), block_size});
+  MPI_Barrier(comm);
 
-  auto start = std::chrono::steady_clock::now();
-  int threads = omp_get_max_threads();
-  auto blocks = my_blocks(plan.grid.size(), choose_block_size(plan.grid.size(), c.size, threads), c);
+  auto blocks = my_blocks(plan.grid.size(), block_size, c);
   std::int64_t local_points = 0;
   for (const auto& b : blocks) local_points += b.end - b.begin;
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
                             !options.quiet && c.rank == 0);
 
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
+  std::atomic<std::int64_t> saved{0};
+  std::string failure;
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    results[i] = std::make_unique<BlockResults>(blocks[i], plan.columns);
-    run_block(plan, *results[i]);
-    progress.add(blocks[i].end - blocks[i].begin);
+    try {
+      results[i] = std::make_unique<BlockResults>(blocks[i], plan.columns);
+      if (start != Start::resume || !journal.load(*results[i])) {
+        run_block(plan, *results[i]);
+        journal.save(*results[i]);
+        test_kill_point("block", ++saved);
+      }
+      progress.add(blocks[i].end - blocks[i].begin);
+    } catch (const std::exception& e) {
+#pragma omp critical(sweep_failure)
+      if (failure.empty()) failure = e.what();
+    }
   }
+  int failed = !failure.empty(), any_failed = 0;
+  MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, comm);
+  if (failed) throw std::runtime_error(failure);
+  if (any_failed) throw std::runtime_error("another rank failed; its message is above");
 
-  OutputFile file(options.output, make_layout(plan, options, c), comm);
-  for (std::size_t k = 0; k < plan.columns.size(); ++k)
-    write_column(file, plan.columns[k], k, results);
-  file.commit();
+  {
+    OutputFile file(options.output, make_layout(plan, options, c), comm);
+    for (std::size_t k = 0; k < plan.columns.size(); ++k)
+      write_column(file, plan.columns[k], k, results);
+    test_kill_point("write");
+    file.commit();
+  }
+  test_kill_point("commit");
+  MPI_Barrier(comm);
+  if (c.rank == 0) journal.remove();
 
   std::int64_t local[2] = {count_status(results, plan.map.status, LaneStatus::diverged),
                            count_status(results, plan.map.status, LaneStatus::breakdown)};
@@ -154,7 +231,8 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   MPI_Allreduce(local, global, 2, MPI_INT64_T, MPI_SUM, comm);
   summary.flagged_diverged = global[0];
   summary.flagged_breakdown = global[1];
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;
 }
 

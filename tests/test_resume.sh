@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Kill real runs at several points (kill -9 between blocks, in the middle of the HDF5 write,
+# right after the commit, and at random moments), continue each with --resume — sometimes with
+# another rank count — and require the result to equal an uninterrupted run in every dataset.
+# Usage: test_resume.sh CONTACTSWEEP SPEC COMPARE_SCRIPT WORKDIR
+set -uo pipefail
+bin=$1 spec=$2 compare=$3 work=$4
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+mpirun=(mpirun --oversubscribe --bind-to none)
+args=(--quiet --set grid.q_0.n=211 --set grid.p_0.n=190 --set integrator.t_end=40
+      --set measures.final_state=true)
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+failures=0 trials=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+"$bin" run "$spec" -o reference.h5 "${args[@]}" || { echo "reference run failed"; exit 1; }
+
+check() {  # check NAME: NAME.h5 complete, journal gone, identical to the reference
+  trials=$((trials + 1))
+  [[ -f $1.h5 && ! -e $1.h5.journal && ! -e $1.h5.partial ]] || { fail "$1: leftovers: $(ls -d "$1".h5* 2>/dev/null)"; return; }
+  python_out=$(/usr/bin/python3 "$compare" reference.h5 "$1.h5") || fail "$1: $python_out"
+}
+
+# Deterministic kill points (the test hook CONTACTSWEEP_TEST_KILL), resumed on 1 or 2 ranks.
+for point in block:1 block:7 write commit; do
+  for resume_ranks in 1 2; do
+    name="kill_${point/:/_}_np$resume_ranks"
+    CONTACTSWEEP_TEST_KILL=$point "$bin" run "$spec" -o "$name.h5" "${args[@]}" 2>/dev/null
+    status=$?
+    [[ $status -eq 137 ]] || fail "$name: expected death by SIGKILL (137), got $status"
+    [[ ! -e $name.h5 || $point == commit ]] || fail "$name: an output appeared before the commit"
+    "${mpirun[@]}" -np "$resume_ranks" "$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" \
+      || fail "$name: resume exited $?"
+    check "$name"
+  done
+done
+
+# Kill a 2-rank run at random moments with kill -9 to one rank's whole job, then resume.
+for delay in 0.2 0.5 0.9 1.4; do
+  name="random_$delay"
+  "${mpirun[@]}" -np 2 "$bin" run "$spec" -o "$name.h5" "${args[@]}" 2>/dev/null &
+  job=$!
+  sleep "$delay"
+  pkill -9 -f -- "-o $name.h5" ; wait "$job" 2>/dev/null
+  # A second kill during the resume, then the final resume.
+  "$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" & job=$!
+  sleep 0.1; kill -9 "$job" 2>/dev/null; wait "$job" 2>/dev/null
+  "$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" || fail "$name: resume exited $?"
+  check "$name"
+done
+
+# --resume of a finished output is a no-op; of another spec's output, a refusal (exit 2).
+"$bin" run "$spec" -o reference.h5 --resume "${args[@]}" || fail "resume of a complete run exited $?"
+"$bin" run "$spec" -o reference.h5 --resume --quiet --set integrator.t_end=20 2>/dev/null
+[[ $? -eq 2 ]] || fail "resume with another spec was not refused with status 2"
+
+echo "resume trials: $trials"
+echo "$((trials - failures)) passed, $failures failed"
+[[ $failures -eq 0 ]]
