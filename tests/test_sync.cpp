@@ -11,6 +11,8 @@
 namespace cs {
 namespace {
 
+// The engine samples synchronization on its looks at the lanes, here every 16 steps (the
+// trajectory interval); the window [20, 50] becomes steps 2000 … 4992, the looks inside it.
 TEST(SyncMeasures, MatchValuesComputedFromTheStoredTrajectory) {
   auto r = test::run_in_memory(R"(
     [scene]
@@ -21,9 +23,9 @@ TEST(SyncMeasures, MatchValuesComputedFromTheStoredTrajectory) {
     g = { values = [0.0, 0.3, 0.8] }
     [measures]
     sync = { window = [20.0, 50.0] }
-    trajectory = { every = 1 })");
+    trajectory = { every = 16 })");
   const double h = 0.01, w1 = std::sqrt(1.2), w2 = std::sqrt(0.8);
-  const std::size_t samples = 6001, n0 = 2000, n1 = 5000;
+  const std::size_t samples = 6000 / 16 + 1, first = 2000 / 16, last = 4992 / 16;
   for (std::size_t g = 0; g < 3; ++g) {
     const double* q1 = &r["traj_q1"][g * samples];
     const double* q2 = &r["traj_q2"][g * samples];
@@ -32,7 +34,7 @@ TEST(SyncMeasures, MatchValuesComputedFromTheStoredTrajectory) {
     // Phases from complex amplitudes, unwrapped the textbook way.
     std::complex<double> sum = 0.0;
     std::vector<double> th1, th2;
-    for (std::size_t n = n0; n <= n1; ++n) {
+    for (std::size_t n = first; n <= last; ++n) {
       std::complex<double> u1(q1[n], -p1[n] / w1), u2(q2[n], -p2[n] / w2);
       sum += std::polar(1.0, std::arg(u1) - std::arg(u2));
       th1.push_back(std::arg(u1));
@@ -45,13 +47,13 @@ TEST(SyncMeasures, MatchValuesComputedFromTheStoredTrajectory) {
     unwrap(th1);
     unwrap(th2);
     double d1 = th1.back() - th1.front(), d2 = th2.back() - th2.front();
-    double window = (n1 - n0) * h;
+    double window = static_cast<double>((last - first) * 16) * h;
     SCOPED_TRACE("g index " + std::to_string(g));
-    // Same samples, different formulas: agreement to round-off accumulated over 3000 terms.
-    EXPECT_NEAR(r["sync_r"][g], std::abs(sum) / double(n1 - n0 + 1), 1e-10);
-    EXPECT_NEAR(r["sync_phase_drift"][g], (d1 - d2) / window, 1e-10);
-    EXPECT_NEAR(r["sync_freq_ratio"][g], d1 / d2, 1e-10);
-    std::complex<double> u1(q1[n1], -p1[n1] / w1), u2(q2[n1], -p2[n1] / w2);
+    // Same samples, different formulas: agreement to round-off accumulated over 188 terms.
+    EXPECT_NEAR(r["sync_r"][g], std::abs(sum) / double(last - first + 1), 1e-12);
+    EXPECT_NEAR(r["sync_phase_drift"][g], (d1 - d2) / window, 1e-12);
+    EXPECT_NEAR(r["sync_freq_ratio"][g], d1 / d2, 1e-12);
+    std::complex<double> u1(q1[last], -p1[last] / w1), u2(q2[last], -p2[last] / w2);
     EXPECT_NEAR(r["sync_amplitude"][g], std::min(std::abs(u1), std::abs(u2)), 1e-12);
   }
 }

@@ -50,10 +50,8 @@ class BlockRunner {
     steps_ = plan.spec.steps;
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
-    if (m.sync) {
-      sync_n0_ = std::llround(m.sync->window_from / plan.spec.h);
-      sync_n1_ = std::llround(m.sync->window_to / plan.spec.h);
-    }
+    sync_n0_ = plan.sync_first_step;
+    sync_n1_ = plan.sync_last_step;
     if (m.basin) basin_early_stop_ = m.basin->early_stop;
     idle_ = make_idle_lane();
   }
@@ -65,7 +63,7 @@ class BlockRunner {
     refill();
     while (active_ > 0 || fin_count_ > 0) {
       if (active_ > 0) {
-        advance_tile(main_, main_book_, plan_.chunk);
+        advance_tile(main_, plan_.chunk);
         look_at_main();
         refill();
       }
@@ -168,21 +166,8 @@ class BlockRunner {
 
   // ---- stepping ------------------------------------------------------------------------------
 
-  void advance_tile(Tile& t, Book* book, int steps) {
-    if (plan_.map.sync_r >= 0) {
-      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [&](int s) {
-        for (int i = 0; i < W; ++i) {
-          if (book[i].point < 0) continue;
-          auto n = book[i].n + s + 1;
-          if (n < sync_n0_ || n > sync_n1_) continue;
-          double q[D], p[D];
-          for (int d = 0; d < D; ++d) q[d] = t.q[d][i], p[d] = t.p[d][i];
-          sample_sync(book[i], n, q, p, t.params[i]);
-        }
-      });
-    } else {
-      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [](int) {});
-    }
+  void advance_tile(Tile& t, int steps) {
+    advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [](int) {});
   }
 
   // Which lanes need a closer look after a chunk: failed, trapped in a well, or due for a
@@ -211,6 +196,8 @@ class BlockRunner {
       auto every = plan_.spec.measures.trajectory->every;
       due = std::min(due, (n / every + 1) * every);
     }
+    if (plan_.map.sync_r >= 0 && n < sync_n1_)
+      due = std::min(due, n < sync_n0_ ? sync_n0_ : n + plan_.chunk);
     return static_cast<int>((due - n) / plan_.chunk);
   }
 
@@ -251,7 +238,7 @@ class BlockRunner {
   }
 
   void run_finisher() {
-    advance_tile(fin_, fin_book_, remainder_);
+    advance_tile(fin_, remainder_);
     for (int j = 0; j < fin_count_; ++j) {
       Book& b = fin_book_[j];
       b.n += remainder_;
@@ -281,9 +268,8 @@ class BlockRunner {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) record_sample(b.point, b.n / every, x, c);
     }
-    if (map.sync_r >= 0 && b.n == 0) {
-      sample_sync(b, 0, x.q, x.p, c);
-    }
+    if (map.sync_r >= 0 && b.n >= sync_n0_ && b.n <= sync_n1_ && b.n % plan_.chunk == 0)
+      sample_sync(b, b.n, x.q, x.p, c);
   }
 
   void sample_sync(Book& b, std::int64_t n, const double* q, const double* p, const Params& c) {

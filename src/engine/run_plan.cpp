@@ -1,5 +1,7 @@
 #include "engine/run_plan.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <numeric>
 
@@ -28,10 +30,15 @@ bool wants(const std::vector<std::string>& list, const std::string& name) {
 // Steps between looks at the lanes: short enough for a fine settle_time and a prompt early
 // stop, long enough that looking costs little next to stepping; always a divisor of the
 // trajectory sampling interval so that samples fall on looks.
+// Synchronization is sampled on looks, which must be close enough (≤ 0.2 time units) for the
+// phases to be unwrapped unambiguously and to resolve the oscillations.
 int choose_chunk(const RunSpec& spec) {
-  if (!spec.measures.trajectory) return 16;
+  std::int64_t cap = 16;
+  if (spec.measures.sync)
+    cap = std::clamp<std::int64_t>(static_cast<std::int64_t>(0.2 / spec.h), 1, 16);
+  if (!spec.measures.trajectory) return static_cast<int>(cap);
   auto every = spec.measures.trajectory->every;
-  for (std::int64_t c = std::min<std::int64_t>(every, 64); c > 1; --c)
+  for (std::int64_t c = std::min<std::int64_t>(every, cap); c > 1; --c)
     if (every % c == 0) return static_cast<int>(c);
   return 1;
 }
@@ -96,6 +103,11 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   }
 
   if (measures.sync) {
+    // The window's ends, rounded inwards to the looks at the lanes.
+    auto first = static_cast<std::int64_t>(std::ceil(measures.sync->window_from / spec.h - 1e-9));
+    auto last = static_cast<std::int64_t>(std::floor(measures.sync->window_to / spec.h + 1e-9));
+    sync_first_step = (first + chunk - 1) / chunk * chunk;
+    sync_last_step = last / chunk * chunk;
     map.sync_r = add({"sync_r", ElementType::float64, false,
                       "phase-locking value |<exp(i(theta1-theta2))>| over the window", "", {}, "",
                       std::nullopt});

@@ -37,6 +37,7 @@ struct RunPlan {
   Grid grid;
   Carry carry{};
   int chunk = 16;                 // steps between looks at the lanes (divides trajectory.every)
+  std::int64_t sync_first_step = 0, sync_last_step = -1;  // the sync window, on looks only
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
   // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. The hybrid leap-frog's energy

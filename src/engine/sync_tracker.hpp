@@ -1,8 +1,9 @@
-// On-line synchronization measures of two oscillators over a time window [n0, n1] (in steps).
-// Phases θ_k = atan2(−p_k/ω_k, q_k) advance like ω_k t for a free oscillator. They are
-// unwrapped sample by sample (one step apart, so far less than π), which gives the mean
-// frequencies and the drift of θ₁ − θ₂; e^{i(θ₁−θ₂)} for the phase-locking value needs no trig:
-// it is the normalised product (q₁ − i p₁/ω₁)·conj(q₂ − i p₂/ω₂).
+// On-line synchronization measures of two oscillators over a time window [n0, n1] (in steps),
+// sampled every few steps (RunPlan::chunk, at most 0.2 time units apart). Phases
+// θ_k = atan2(−p_k/ω_k, q_k) advance like ω_k t for a free oscillator; they are unwrapped sample
+// by sample (0.2·ω ≪ π apart), which gives the mean frequencies and the drift of θ₁ − θ₂.
+// e^{i(θ₁−θ₂)} for the phase-locking value needs no trig: it is the normalised product
+// (q₁ − i p₁/ω₁)·conj(q₂ − i p₂/ω₂).
 #pragma once
 
 #include <cmath>
