@@ -35,6 +35,17 @@ for point in block:1 block:7 write commit; do
   done
 done
 
+# One rank of two dies (the other is still computing): the job must end with a non-zero
+# status and leave a journal that --resume (on one rank) finishes.
+name=rank_dies
+CONTACTSWEEP_TEST_KILL=block:2@1 "${mpirun[@]}" -np 2 "$bin" run "$spec" -o "$name.h5" "${args[@]}" \
+  > "$name.log" 2>&1
+status=$?
+[[ $status -ne 0 ]] || fail "$name: mpirun exited 0 although rank 1 died"
+[[ ! -e $name.h5 && -d $name.h5.journal ]] || fail "$name: expected a journal and no output"
+"$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" || fail "$name: resume exited $?"
+check "$name"
+
 # Kill a 2-rank run at random moments with kill -9 to one rank's whole job, then resume.
 for delay in 0.2 0.5 0.9 1.4; do
   name="random_$delay"

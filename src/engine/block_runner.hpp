@@ -299,7 +299,9 @@ class BlockRunner {
     for (int d = 0; d < D; ++d) v[d] = x.q[d], v[D + d] = x.p[d];
     v[2 * D] = x.z;
     v[2 * D + 1] = x.mu;
-    H = std::exp(x.mu) * K<S>(x.q, x.p, x.z, c);
+    // λK in the log domain: late in a damped run λ overflows while K underflows.
+    double k = K<S>(x.q, x.p, x.z, c);
+    H = k == 0.0 ? 0.0 : std::copysign(std::exp(x.mu + std::log(std::fabs(k))), k);
   }
 
   void record_sample(std::int64_t point, std::int64_t sample, const LaneState<D>& x,

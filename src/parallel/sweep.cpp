@@ -1,6 +1,8 @@
 #include "parallel/sweep.hpp"
 
+#include <fmt/core.h>
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -111,6 +113,35 @@ std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& bloc
   return n;
 }
 
+// Refuses, before any work, a run whose results cannot fit: every rank holds the results of
+// its blocks until the end (memory), and the file holds all of them (disk). Trajectories are
+// the usual culprit; the message says how much was asked and how much there is.
+void check_resources(const RunPlan& plan, const SweepOptions& options, const Comm& c) {
+  double values_per_point = 0.0;
+  for (const auto& column : plan.columns) values_per_point += static_cast<double>(column.width);
+  const double points = static_cast<double>(plan.grid.size());
+  const double memory_per_rank = points / c.size * values_per_point * sizeof(double);
+  const double file_bytes = points * values_per_point * sizeof(double);
+  const double available_memory =
+      static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  auto gib = [](double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); };
+  // Ranks on one node share its memory; assume all of them do (the safe side on a laptop).
+  if (memory_per_rank * c.size > 0.8 * available_memory)
+    throw InputError(fmt::format(
+        "the results need {} of memory ({} points x {} values) but {} is available; use a "
+        "coarser grid, fewer measures or a larger trajectory.every",
+        gib(memory_per_rank * c.size), plan.grid.size(), values_per_point, gib(available_memory)));
+  auto directory = std::filesystem::absolute(options.output).parent_path();
+  std::error_code error;
+  auto space = std::filesystem::space(directory, error);
+  if (error || ::access(directory.c_str(), W_OK) != 0)
+    throw InputError("cannot write the output '" + options.output + "': directory '" +
+                     directory.string() + "' is missing or not writable");
+  if (file_bytes > 0.95 * static_cast<double>(space.available))
+    throw InputError(fmt::format("the output needs about {} but {} has {} free", gib(file_bytes),
+                                 directory.string(), gib(static_cast<double>(space.available))));
+}
+
 // How this invocation relates to what an earlier one left at the output path.
 enum class Start { fresh, resume, complete };
 
@@ -148,16 +179,21 @@ Start decide_start(const RunSpec& spec, const SweepOptions& options, const Journ
   return Start::resume;
 }
 
-// Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N]): the process kills itself with SIGKILL at a
-// chosen point, so that tests can interrupt real runs deterministically. Stages: `block`
+// Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N][@RANK]): the process kills itself with SIGKILL at
+// a chosen point, so that tests can interrupt real runs deterministically. Stages: `block`
 // (after the N-th saved block of this rank), `write` (HDF5 file open, nothing committed),
-// `commit` (output in place, journal not yet removed).
-void test_kill_point(const char* stage, std::int64_t count = 0) {
+// `commit` (output in place, journal not yet removed). @RANK limits it to one rank (a rank
+// that dies while the others go on).
+void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   static const char* spec = std::getenv("CONTACTSWEEP_TEST_KILL");
   if (spec == nullptr) return;
-  std::string s(spec), name = s.substr(0, s.find(':'));
-  std::int64_t at = s.find(':') == std::string::npos ? 0 : std::stoll(s.substr(s.find(':') + 1));
-  if (name == stage && count == at) std::raise(SIGKILL);
+  std::string s(spec);
+  auto at_rank = s.find('@');
+  if (at_rank != std::string::npos && std::stoi(s.substr(at_rank + 1)) != rank) return;
+  s = s.substr(0, at_rank);
+  auto colon = s.find(':');
+  std::int64_t at = colon == std::string::npos ? 0 : std::stoll(s.substr(colon + 1));
+  if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
 }
 
 }  // namespace
@@ -173,6 +209,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
 
   const int threads = omp_get_max_threads();
   std::int64_t block_size = choose_block_size(plan.grid.size(), c.size, threads);
+  check_resources(plan, options, c);
   Journal journal(options.output);
   Start start = decide_start(spec, options, journal, block_size);
   MPI_Barrier(comm);  // every rank has looked before rank 0 changes anything
@@ -201,7 +238,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       if (start != Start::resume || !journal.load(*results[i])) {
         run_block(plan, *results[i]);
         journal.save(*results[i]);
-        test_kill_point("block", ++saved);
+        test_kill_point("block", c.rank, ++saved);
       }
       progress.add(blocks[i].end - blocks[i].begin);
     } catch (const std::exception& e) {
@@ -218,10 +255,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     OutputFile file(options.output, make_layout(plan, options, c), comm);
     for (std::size_t k = 0; k < plan.columns.size(); ++k)
       write_column(file, plan.columns[k], k, results);
-    test_kill_point("write");
+    test_kill_point("write", c.rank);
     file.commit();
   }
-  test_kill_point("commit");
+  test_kill_point("commit", c.rank);
   MPI_Barrier(comm);
   if (c.rank == 0) journal.remove();
 
