@@ -596,8 +596,9 @@ const std::vector<BadSpec> kBadSpecs = {
     {"unknown_scene", "[scene]\nname = \"duble_well\"\n", {},
      "unknown scene \"duble_well\" (did you mean 'double_well'?); valid scenes: damped_oscillator, "
      "z2_damping, double_well, coupled_oscillators"},
-    {"unknown_method", kDw + "[integrator]\nmethod = \"rk4\"\n", {},
-     "unknown method \"rk4\"; valid methods: hybrid_leapfrog"},
+    {"unknown_method", kDw + "[integrator]\nmethod = \"rk5\"\n", {},
+     "unknown method \"rk5\" (did you mean 'rk4'?); valid methods: hybrid_leapfrog, "
+     "symmetric_leapfrog, contact_splitting2, contact_splitting4, contact_splitting6, rk4"},
     // Wrong types.
     {"scene_name_not_string", "[scene]\nname = 3\n", {},
      "scene.name: expected a string (in quotes), got an integer 3"},

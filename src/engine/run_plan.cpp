@@ -6,7 +6,10 @@
 #include <numeric>
 
 #include "engine/block_runner.hpp"
+#include "numerics/contact_splitting.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
+#include "numerics/rk4.hpp"
+#include "numerics/symmetric_leapfrog.hpp"
 #include "physics/coupled_oscillators.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
@@ -155,6 +158,11 @@ void run_scene(const RunPlan& plan, BlockResults& results) {
 void run_block(const RunPlan& plan, BlockResults& results) {
   const auto& method = plan.method.name;
   if (method == "hybrid_leapfrog") return run_scene<HybridLeapfrog>(plan, results);
+  if (method == "symmetric_leapfrog") return run_scene<SymmetricLeapfrog>(plan, results);
+  if (method == "contact_splitting2") return run_scene<ContactSplitting2>(plan, results);
+  if (method == "contact_splitting4") return run_scene<ContactSplitting4>(plan, results);
+  if (method == "contact_splitting6") return run_scene<ContactSplitting6>(plan, results);
+  if (method == "rk4") return run_scene<Rk4>(plan, results);
   throw std::logic_error("no kernel for method " + method);
 }
 

@@ -12,6 +12,7 @@ struct CoupledOscillators {
   static constexpr int dof = 2;
   static constexpr bool z_feeds_back = false;
   static constexpr bool kz_constant = true;
+  static constexpr ZPart z_part = ZPart::linear;  // K = Σp²/2 + V(q) − γz
 
   template <class T>
   struct Params {

@@ -10,6 +10,7 @@ struct DoubleWell {
   static constexpr int dof = 1;
   static constexpr bool z_feeds_back = false;
   static constexpr bool kz_constant = true;
+  static constexpr ZPart z_part = ZPart::linear;  // K = Σp²/2 + V(q) − γz
 
   template <class T>
   struct Params {

@@ -12,6 +12,10 @@
 //   static bool diverged(const double* q, const double* p);   past the scene's bound?
 // and optionally static constexpr bool p_in_forces = true when K_q or K_z depend on p.
 //
+// A scene whose K = Σ p_i²/2 + V(q) + Z(z) splits into exactly solvable flows declares the shape
+// of its z part, `static constexpr ZPart z_part` (Z = k·z or k·z²); splitting methods read V, its
+// force and k off K itself (numerics/split_flows.hpp), so it writes no further formula.
+//
 // Partials are never written by hand: partials.hpp evaluates K on a state view in which exactly
 // one variable is a dual number, so K_q, K_p and K_z come from one formula, and a term that does
 // not depend on the seeded variable stays a plain number that costs nothing.
@@ -59,6 +63,13 @@ concept Scene = requires(const double* x, typename S::template Params<double> pr
   { S::params_from(x) } -> std::same_as<typename S::template Params<double>>;
   { S::K(StateView<double>{x, x, 0.0}, prm) } -> std::convertible_to<double>;
   { S::diverged(x, x) } -> std::same_as<bool>;
+};
+
+enum class ZPart { linear, quadratic };
+
+template <class S>
+concept SplittableScene = Scene<S> && requires {
+  { S::z_part } -> std::convertible_to<ZPart>;
 };
 
 template <Scene S>

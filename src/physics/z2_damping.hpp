@@ -10,6 +10,7 @@ struct Z2Damping {
   static constexpr int dof = 1;
   static constexpr bool z_feeds_back = true;
   static constexpr bool kz_constant = false;
+  static constexpr ZPart z_part = ZPart::quadratic;  // K = Σp²/2 + V(q) − γz²
 
   template <class T>
   struct Params {

@@ -1,0 +1,102 @@
+// The exactly solvable parts of a separable contact Hamiltonian K = Σ p_i²/2 + V(q) + Z(z) and
+// their exact flows, in the paper's convention q' = K_p, p' = −K_q + pK_z, z' = K − pK_p,
+// (ln λ)' = −K_z (Bravetti, Seri, Vermeeren, Zadra 2020; shared/PHYSICS.md):
+//
+//   p²/2:   q += t·p,            z −= t·p²/2
+//   V(q):   p −= t·V′(q),        z += t·V(q)
+//   k·z:    p ×= e^{kt},         z ×= e^{kt},     ln λ −= k·t
+//   k·z²:   s = 1 − k·z₀·t,      z = z₀/s,        p ×= 1/s²,   ln λ += 2 ln s
+//
+// The last one, derived: z' = kz² gives z = z₀/(1 − kz₀t); then (ln p)' = K_z = 2kz = −(ln s)'·2
+// and (ln λ)' = −2kz = 2(ln s)'. It leaves the real line where s ≤ 0 (the exact sub-flow itself
+// blows up; for scene B, k = −γ, that is z₀ < −1/(γt)), which the step reports as breakdown.
+//
+// V, V′ and k are read off the scene's own K: K(q, 0, 0) = V(q) and K_q(q, 0, 0) = V′(q), since
+// Z(0) = 0 and the kinetic part vanishes at p = 0; k = K_z(0, 0, 0) for a linear Z and
+// K_z(0, 0, 1)/2 for a quadratic one. tests/test_methods.cpp checks that each splittable scene
+// is the sum of these parts.
+#pragma once
+
+#include <cmath>
+
+#include "numerics/lane_state.hpp"
+#include "physics/partials.hpp"
+
+namespace cs {
+
+template <class T>
+constexpr T value_of(T x) {
+  return x;
+}
+template <class T>
+constexpr T value_of(Dual<T> x) {
+  return x.v;
+}
+
+// V(q) and ∂V/∂q_i from one evaluation of K with q_i seeded (its value part is V itself).
+template <SplittableScene S, int i, class T>
+inline void potential_and_force(const T* q, const ParamsOf<S, T>& c, T& v, T& force) {
+  T zero[S::dof] = {};
+  auto k = S::K(StateView<T, Seed::q, i>{q, zero, T{}}, c);
+  v = value_of<T>(k);
+  force = derivative<T>(k);
+}
+
+template <SplittableScene S, class T>
+inline T potential(const T* q, const ParamsOf<S, T>& c) {
+  T zero[S::dof] = {};
+  return K<S>(q, zero, T{}, c);
+}
+
+template <SplittableScene S, int i, class T>
+inline T potential_force(const T* q, const ParamsOf<S, T>& c) {
+  T zero[S::dof] = {};
+  return K_q<S, i>(q, zero, T{}, c);
+}
+
+// k in Z(z) = k·z or k·z².
+template <SplittableScene S, class T>
+inline T z_coefficient(const ParamsOf<S, T>& c) {
+  T zero[S::dof] = {};
+  if constexpr (S::z_part == ZPart::linear)
+    return K_z<S>(zero, zero, T{}, c);
+  else
+    return 0.5 * K_z<S>(zero, zero, T{} + 1.0, c);
+}
+
+// ---- the flows; `with_z` says whether z is integrated at all -----------------------------------
+
+template <bool with_z, int D, class T>
+inline void kinetic_flow(LaneState<D, T>& x, T t) {
+  for (int i = 0; i < D; ++i) {
+    if constexpr (with_z) x.z = x.z - t * half_square(x.p[i]);
+    x.q[i] = x.q[i] + t * x.p[i];
+  }
+}
+
+// `force` and `v` are V′ and V at the current q (a kick leaves q alone, so they stay valid).
+template <bool with_z, int D, class T>
+inline void potential_flow(LaneState<D, T>& x, T t, const T* force, T v) {
+  for (int i = 0; i < D; ++i) x.p[i] = x.p[i] - t * force[i];
+  if constexpr (with_z) x.z = x.z + t * v;
+}
+
+// Z = k·z for time t, given decay = e^{kt}; ln λ is advanced once per step by the caller.
+template <bool with_z, int D, class T>
+inline void linear_z_flow(LaneState<D, T>& x, T decay) {
+  for (int i = 0; i < D; ++i) x.p[i] = x.p[i] * decay;
+  if constexpr (with_z) x.z = x.z * decay;
+}
+
+// Z = k·z² for time t (z always feeds back here).
+template <bool with_mu, int D, class T>
+inline void quadratic_z_flow(LaneState<D, T>& x, T k, T t) {
+  T s = 1.0 - k * x.z * t;
+  x.broken += (s <= 0.0);
+  T r = 1.0 / s;
+  x.z = x.z * r;
+  for (int i = 0; i < D; ++i) x.p[i] = x.p[i] * (r * r);
+  if constexpr (with_mu) x.mu = x.mu + 2.0 * std::log(s);
+}
+
+}  // namespace cs
