@@ -3,6 +3,7 @@
 // do) changes a bit of any output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -169,6 +170,33 @@ TEST(EngineBlocks, EveryLaneEqualsScalarStepsThroughTheFinisher) {
     }
   }
   EXPECT_GT(early, 300);  // enough lanes stop early to scramble the slots
+}
+
+// A grid over h (stability and accuracy maps) integrates each h as its own slice: each slice
+// equals a run with that h and no h axis, bit for bit.
+TEST(EngineBlocks, StepSizeAxisSlicesEqualSeparateRuns) {
+  const std::string map = R"(
+    [scene]
+    name = "double_well"
+    [integrator]
+    t_end = 12.0
+    [grid]
+    h = { values = [0.01, 0.05, 0.3, 0.5] }
+    q_0 = { from = -3.0, to = 3.0, n = 13 }
+    [measures]
+    basin = {}
+    final_state = true)";
+  auto all = test::run_in_memory(map, {}, 5);
+  const char* hs[] = {"0.01", "0.05", "0.3", "0.5"};
+  for (std::size_t i = 0; i < 4; ++i) {
+    auto one = test::run_in_memory(map, {"grid.h={values=[" + std::string(hs[i]) + "]}"});
+    for (const auto& [name, values] : one) {
+      ASSERT_EQ(values.size(), 13u) << name;
+      for (std::size_t k = 0; k < 13; ++k)
+        ASSERT_TRUE(same_bits(values[k], all[name][i * 13 + k])) << name << " h " << hs[i];
+    }
+  }
+  EXPECT_GT(std::count(all["status"].begin(), all["status"].end(), 1.0), 0);  // h = 0.5 fails
 }
 
 }  // namespace

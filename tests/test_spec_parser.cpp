@@ -580,7 +580,7 @@ const std::vector<BadSpec> kBadSpecs = {
     {"axis_without_suffix", kDw + "[grid]\nq = { values = [1] }\n", {},
      "unknown key 'grid.q' (did you mean 'grid.q_0'?)"},
     {"axis_unknown", kDw + "[grid]\nomega = { values = [1] }\n", {},
-     "valid keys in [grid]: a, gamma, q_0, p_0, z_0, lambda_0"},
+     "valid keys in [grid]: a, gamma, h, q_0, p_0, z_0, lambda_0"},
     {"axis_unknown_key", kDw + "[grid]\nq_0 = { start = 0, to = 1, n = 2 }\n", {},
      "unknown key 'grid.q_0.start' (did you mean 'grid.q_0.from'?)"},
     {"measure_unknown", kDw + "[measures]\nbasins = {}\n", {},
@@ -596,6 +596,12 @@ const std::vector<BadSpec> kBadSpecs = {
     {"unknown_scene", "[scene]\nname = \"duble_well\"\n", {},
      "unknown scene \"duble_well\" (did you mean 'double_well'?); valid scenes: damped_oscillator, "
      "z2_damping, double_well, coupled_oscillators"},
+    {"step_axis_not_first", kDw + "[grid]\nq_0 = { values = [1.0] }\nh = { values = [0.01] }\n", {},
+     "grid.h must be the first grid axis"},
+    {"step_axis_not_whole", kDw + "[integrator]\nt_end = 1.0\n[grid]\nh = { values = [0.3] }\n", {},
+     "grid.h = 0.3: t_end = 1 is not a whole number of steps"},
+    {"step_axis_with_trajectory", kDw + "[grid]\nh = { values = [0.01] }\n[measures]\ntrajectory = true\n", {},
+     "measures.trajectory cannot be combined with a grid over h"},
     {"unknown_method", kDw + "[integrator]\nmethod = \"rk5\"\n", {},
      "unknown method \"rk5\" (did you mean 'rk4'?); valid methods: hybrid_leapfrog, "
      "symmetric_leapfrog, contact_splitting2, contact_splitting4, contact_splitting6, rk4"},

@@ -77,7 +77,7 @@ class BlockRunner {
   LaneState<D> make_idle_lane() const {
     LaneState<D> x{};
     double params[16], state[16];
-    plan_.grid.point(out_.range.begin, params, state);
+    plan_.grid.point(out_.range.begin - plan_.point_offset, params, state);
     load_state(x, state);
     Params c = S::params_from(params);
     Method::template start<S>(x, c);
@@ -135,7 +135,7 @@ class BlockRunner {
   // Puts point `k` into main slot i; false when it is finished at once (breakdown at t = 0).
   bool load(int i, std::int64_t k) {
     double params[16], state[16];
-    plan_.grid.point(k, params, state);
+    plan_.grid.point(k - plan_.point_offset, params, state);
     LaneState<D> x{};
     load_state(x, state);
     Params c = S::params_from(params);

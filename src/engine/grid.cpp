@@ -20,8 +20,9 @@ Grid::Grid(const RunSpec& spec, const SceneInfo& scene) {
   for (const auto& v : scene.variables) base_state_.push_back(spec.initial.at(v.name));
   std::int64_t stride = 1;
   for (auto axis = spec.axes.rbegin(); axis != spec.axes.rend(); ++axis) {
-    int slot = axis->is_parameter ? index_of(scene.parameters, axis->target)
-                                  : index_of(scene.variables, axis->target);
+    int slot = axis->is_step_size  ? -1  // sets no parameter or variable: see RunPlan slices
+               : axis->is_parameter ? index_of(scene.parameters, axis->target)
+                                    : index_of(scene.variables, axis->target);
     axes_.push_back({&axis->values, axis->is_parameter, slot, stride});
     stride *= static_cast<std::int64_t>(axis->values.size());
     uniform_params_ = uniform_params_ && !axis->is_parameter;
@@ -33,6 +34,7 @@ void Grid::point(std::int64_t index, double* params, double* state) const {
   std::copy(base_params_.begin(), base_params_.end(), params);
   std::copy(base_state_.begin(), base_state_.end(), state);
   for (const auto& axis : axes_) {
+    if (axis.slot < 0) continue;
     auto n = static_cast<std::int64_t>(axis.values->size());
     double v = (*axis.values)[static_cast<std::size_t>((index / axis.stride) % n)];
     (axis.is_parameter ? params : state)[axis.slot] = v;

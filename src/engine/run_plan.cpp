@@ -126,6 +126,30 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   }
 }
 
+std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, const SceneInfo& scene,
+                                                       const MethodInfo& method,
+                                                       std::vector<std::unique_ptr<RunSpec>>& specs) {
+  std::vector<std::unique_ptr<RunPlan>> plans;
+  if (spec.axes.empty() || !spec.axes.front().is_step_size) {
+    plans.push_back(std::make_unique<RunPlan>(spec, scene, method));
+    return plans;
+  }
+  std::int64_t slice_points = 1;
+  for (std::size_t a = 1; a < spec.axes.size(); ++a)
+    slice_points *= static_cast<std::int64_t>(spec.axes[a].values.size());
+  const auto& hs = spec.axes.front().values;
+  for (std::size_t i = 0; i < hs.size(); ++i) {
+    auto slice = std::make_unique<RunSpec>(spec);
+    slice->h = hs[i];
+    slice->steps = std::llround(spec.t_end / hs[i]);  // whole: checked by the parser
+    slice->axes.erase(slice->axes.begin());
+    plans.push_back(std::make_unique<RunPlan>(*slice, scene, method));
+    plans.back()->point_offset = static_cast<std::int64_t>(i) * slice_points;
+    specs.push_back(std::move(slice));
+  }
+  return plans;
+}
+
 // ---- dispatch: the one place where run-time names meet template instantiations ------------
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,9 +47,18 @@ struct RunPlan {
   double basin_margin_coefficient = 2.0;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
+  // Flat index of this plan's first point in the whole grid: a run over several step sizes
+  // has one plan per h, each for its contiguous slice of the grid (step_size_slices).
+  std::int64_t point_offset = 0;
 
   RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
 };
+
+// One plan per step size when the first grid axis is h (each with that h, the remaining axes
+// and its point_offset), else the plan of the whole grid. `specs` keeps the slices' specs alive.
+std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, const SceneInfo& scene,
+                                                       const MethodInfo& method,
+                                                       std::vector<std::unique_ptr<RunSpec>>& specs);
 
 // Integrates the points of `results.range` and fills `results`. Thread-safe for distinct blocks.
 void run_block(const RunPlan& plan, BlockResults& results);

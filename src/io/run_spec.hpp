@@ -23,6 +23,8 @@ struct GridAxis {
   std::string name;            // as in the spec and as the HDF5 coordinate: "q_0", "gamma"
   std::string target;          // parameter or variable it sets: "q", "gamma"
   bool is_parameter = false;   // true: scene parameter; false: initial value of a variable
+  bool is_step_size = false;   // the axis "h": the integrator's step (first axis only; each
+                               // value is integrated as its own slice of the grid)
   std::vector<double> values;  // numpy.linspace(from, to, n) bit for bit, or explicit values
 };
 

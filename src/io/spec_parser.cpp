@@ -493,14 +493,18 @@ class SpecReader {
   // Scene parameters by name, initial values as <variable>_0.
   Names axis_names() const {
     Names names = parameter_names(*scene_);
+    names.push_back("h");  // stability and accuracy maps over the step size
     for (const std::string& v : variable_names(*scene_)) names.push_back(v + "_0");
     return names;
   }
 
   AxisDraft read_axis(const std::string& name, const toml::node& node) const {
     const std::string key = "grid." + name;
-    AxisDraft draft{GridAxis{name, name, true, {}}, &node};
-    if (!contains(parameter_names(*scene_), name)) {
+    AxisDraft draft{GridAxis{name, name, true, false, {}}, &node};
+    if (name == "h") {
+      draft.axis.is_parameter = false;
+      draft.axis.is_step_size = true;
+    } else if (!contains(parameter_names(*scene_), name)) {
       draft.axis.target = name.substr(0, name.size() - 2);  // "q_0" -> "q"
       draft.axis.is_parameter = false;
     }
@@ -556,7 +560,24 @@ class SpecReader {
       if (must_be_positive(draft.axis.target) && !(value > 0.0))
         fail_value(*draft.node, key,
                    fmt::format("values > 0 ({} must be positive)", draft.axis.target));
+      if (draft.axis.is_step_size) check_step_size(draft, value);
     }
+  }
+
+  // A grid over h integrates each h as its own slice: it must be the first axis (slices are
+  // then contiguous), and every h must divide t_end into whole steps.
+  void check_step_size(const AxisDraft& draft, double h) const {
+    if (!spec_.axes.empty())
+      fail(draft.node, "grid.h must be the first grid axis (each step size is integrated as "
+                       "its own slice of the grid)");
+    if (!(h > 0.0)) fail_value(*draft.node, "grid.h", "step sizes > 0");
+    const double ratio = spec_.t_end / h;
+    const auto steps = std::llround(ratio);
+    if (!(ratio >= 1.0 && ratio < 9.007199254740992e15) ||
+        std::abs(static_cast<double>(steps) * h - spec_.t_end) > kStepTolerance * spec_.t_end)
+      fail(draft.node, fmt::format("grid.h = {}: t_end = {} is not a whole number of steps of "
+                                   "it (t_end / h = {:.12g})",
+                                   h, spec_.t_end, ratio));
   }
 
   // --- [measures] ----------------------------------------------------------------------------
@@ -641,6 +662,9 @@ class SpecReader {
       if (trajectory.every < 1)
         fail_value(*every, "measures.trajectory.every", "an integer >= 1 (steps between samples)");
     }
+    if (!spec_.axes.empty() && spec_.axes.front().is_step_size)
+      fail(measures.get("trajectory"), "measures.trajectory cannot be combined with a grid over h "
+                                       "(the time axis would differ from one h to the next)");
     spec_.measures.trajectory = trajectory;
   }
 

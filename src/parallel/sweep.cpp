@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -40,11 +41,21 @@ std::int64_t choose_block_size(std::int64_t points, int ranks, int threads) {
   return std::clamp<std::int64_t>(target, 256, 16384);
 }
 
-std::vector<PointRange> my_blocks(std::int64_t points, std::int64_t block, const Comm& c) {
-  std::vector<PointRange> blocks;
-  std::int64_t count = (points + block - 1) / block;
-  for (std::int64_t b = c.rank; b < count; b += c.size)
-    blocks.push_back({b * block, std::min(points, (b + 1) * block)});
+struct Block {
+  PointRange range;
+  const RunPlan* plan;  // the slice (step size) it belongs to
+};
+
+// Blocks never straddle two slices; they are dealt round-robin over the whole list.
+std::vector<Block> my_blocks(const std::vector<std::unique_ptr<RunPlan>>& slices,
+                             std::int64_t block, const Comm& c) {
+  std::vector<Block> blocks;
+  std::int64_t index = 0;
+  for (const auto& plan : slices) {
+    const std::int64_t begin = plan->point_offset, end = begin + plan->grid.size();
+    for (std::int64_t b = begin; b < end; b += block, ++index)
+      if (index % c.size == c.rank) blocks.push_back({{b, std::min(end, b + block)}, plan.get()});
+  }
   return blocks;
 }
 
@@ -52,7 +63,9 @@ FileLayout make_layout(const RunPlan& plan, const SweepOptions& options, const C
   FileLayout layout;
   for (const auto& axis : plan.spec.axes) {
     std::string long_name;
-    if (axis.is_parameter) {
+    if (axis.is_step_size) {
+      long_name = "integrator step size h";
+    } else if (axis.is_parameter) {
       for (const auto& p : plan.scene.parameters)
         if (p.name == axis.target) long_name = p.description;
     } else {
@@ -72,9 +85,11 @@ FileLayout make_layout(const RunPlan& plan, const SweepOptions& options, const C
   text["Conventions"] = "CF-1.8";
   text["history"] = options.command_line;
   auto& number = layout.number_attributes;
-  number["h"] = plan.spec.h;
+  const bool h_axis = !plan.spec.axes.empty() && plan.spec.axes.front().is_step_size;
+  const double nan = std::numeric_limits<double>::quiet_NaN();  // h varies: see coordinate h
+  number["h"] = h_axis ? nan : plan.spec.h;
   number["t_end"] = plan.spec.t_end;
-  number["steps"] = static_cast<double>(plan.spec.steps);
+  number["steps"] = h_axis ? nan : static_cast<double>(plan.spec.steps);
   number["mpi_ranks"] = c.size;
   number["omp_threads"] = omp_get_max_threads();
   return layout;
@@ -202,7 +217,9 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   Comm c(comm);
   const SceneInfo* scene = find_scene(spec.scene);
   const MethodInfo* method = find_method(spec.method);
-  RunPlan plan(spec, *scene, *method);
+  RunPlan plan(spec, *scene, *method);  // the whole grid: datasets, layout
+  std::vector<std::unique_ptr<RunSpec>> slice_specs;
+  auto slices = step_size_slices(spec, *scene, *method, slice_specs);
   SweepSummary summary;
   summary.points = plan.grid.size();
   auto start_time = std::chrono::steady_clock::now();
@@ -222,9 +239,9 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     journal.create({spec.spec_text, kVersion, plan.grid.size(), block_size});
   MPI_Barrier(comm);
 
-  auto blocks = my_blocks(plan.grid.size(), block_size, c);
+  auto blocks = my_blocks(slices, block_size, c);
   std::int64_t local_points = 0;
-  for (const auto& b : blocks) local_points += b.end - b.begin;
+  for (const auto& b : blocks) local_points += b.range.end - b.range.begin;
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
                             !options.quiet && c.rank == 0);
 
@@ -234,13 +251,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     try {
-      results[i] = std::make_unique<BlockResults>(blocks[i], plan.columns);
+      results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
       if (start != Start::resume || !journal.load(*results[i])) {
-        run_block(plan, *results[i]);
+        run_block(*blocks[i].plan, *results[i]);
         journal.save(*results[i]);
         test_kill_point("block", c.rank, ++saved);
       }
-      progress.add(blocks[i].end - blocks[i].begin);
+      progress.add(blocks[i].range.end - blocks[i].range.begin);
     } catch (const std::exception& e) {
 #pragma omp critical(sweep_failure)
       if (failure.empty()) failure = e.what();

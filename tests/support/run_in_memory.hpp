@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,16 +18,20 @@ using Datasets = std::map<std::string, std::vector<double>>;
 inline Datasets run_in_memory(const std::string& toml, const std::vector<std::string>& sets = {},
                               std::int64_t block = 0) {
   RunSpec spec = parse_run_spec(toml, sets, "test spec");
-  RunPlan plan(spec, *find_scene(spec.scene), *find_method(spec.method));
-  const std::int64_t n = plan.grid.size();
-  if (block <= 0) block = n;
+  std::vector<std::unique_ptr<RunSpec>> slice_specs;
+  auto slices =
+      step_size_slices(spec, *find_scene(spec.scene), *find_method(spec.method), slice_specs);
   Datasets out;
-  for (std::int64_t b = 0; b < n; b += block) {
-    BlockResults r({b, std::min(n, b + block)}, plan.columns);
-    run_block(plan, r);
-    for (std::size_t k = 0; k < plan.columns.size(); ++k) {
-      auto& v = out[plan.columns[k].dataset.name];
-      v.insert(v.end(), r.columns[k].begin(), r.columns[k].end());
+  for (const auto& plan : slices) {
+    const std::int64_t begin = plan->point_offset, end = begin + plan->grid.size();
+    const std::int64_t size = block > 0 ? block : end - begin;
+    for (std::int64_t b = begin; b < end; b += size) {
+      BlockResults r({b, std::min(end, b + size)}, plan->columns);
+      run_block(*plan, r);
+      for (std::size_t k = 0; k < plan->columns.size(); ++k) {
+        auto& v = out[plan->columns[k].dataset.name];
+        v.insert(v.end(), r.columns[k].begin(), r.columns[k].end());
+      }
     }
   }
   return out;
