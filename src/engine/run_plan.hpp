@@ -41,9 +41,9 @@ struct RunPlan {
   std::int64_t sync_first_step = 0, sync_last_step = -1;  // the sync window, on looks only
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
-  // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. The hybrid leap-frog's energy
-  // rises by at most 0.82·h²·a⁶ after a lane dips below a⁴/2 (worst case γ = 0, h ≤ 0.2;
-  // measured in test_basin.cpp), so C = 2 leaves a factor 2.4.
+  // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. After a lane dips below a⁴/2 its
+  // energy rises by at most 0.92·h²·a⁶ with any of our methods (worst: the second-order ones at
+  // γ = 0, h ≤ 0.2; measured in test_basin.cpp), so C = 2 leaves a factor 2.2.
   double basin_margin_coefficient = 2.0;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
