@@ -97,6 +97,7 @@ class BlockRunner {
     t.coef[i] = uniform_coef_;
     book[i] = Book{};
     if (&t == &main_) {
+      steps_done_[i] = 0;
       countdown_[i] = std::numeric_limits<int>::max();
       trap_energy_[i] = -std::numeric_limits<double>::infinity();
       a2_[i] = 0.0;
@@ -185,6 +186,7 @@ class BlockRunner {
         trapped = 0.5 * (t.p[0][i] * t.p[0][i]) + 0.5 * (well * well) < trap_energy_[i];
       }
       countdown_[i] -= 1;
+      steps_done_[i] += plan_.chunk;
       attention_[i] = (!healthy) | trapped | (countdown_[i] <= 0);
     }
   }
@@ -203,11 +205,13 @@ class BlockRunner {
 
   void look_at_main() {
     screen();
+    int any = 0;
+    for (int i = 0; i < W; ++i) any |= attention_[i];
+    if (!any) return;  // the common case: nothing to do until the next chunk
     for (int i = 0; i < W; ++i) {
       Book& b = main_book_[i];
-      if (b.point < 0) continue;
-      b.n += plan_.chunk;
-      if (!attention_[i]) continue;
+      if (!attention_[i] || b.point < 0) continue;
+      b.n = steps_done_[i];
       countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
       const Params& c = main_.params[i];
@@ -374,6 +378,8 @@ class BlockRunner {
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
   // Screening state of the main tile, structure of arrays.
+  alignas(64) std::int64_t steps_done_[W];  // the main tile's step counts (Book::n is set
+                                            // from it when a lane is looked at)
   alignas(64) int countdown_[W];
   alignas(64) int attention_[W];
   alignas(64) double trap_energy_[W];

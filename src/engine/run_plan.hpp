@@ -37,7 +37,7 @@ struct RunPlan {
   const MethodInfo& method;
   Grid grid;
   Carry carry{};
-  int chunk = 16;                 // steps between looks at the lanes (divides trajectory.every)
+  int chunk = 32;                 // steps between looks at the lanes (divides trajectory.every)
   std::int64_t sync_first_step = 0, sync_last_step = -1;  // the sync window, on looks only
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
