@@ -8,7 +8,6 @@
 #include "numerics/hybrid_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/z2_damping.hpp"
-#include "support/exact_damped_oscillator.hpp"
 
 namespace cs {
 namespace {
@@ -59,43 +58,8 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   EXPECT_EQ(x.broken, 0.0);
 }
 
-struct Errors {
-  double q, p, z, log_lambda;
-};
-
-// Largest error against the exact flow at t = 1, 2, ..., 10 (a single end time could sit
-// near a zero of the error and fake the order).
-Errors scene_a_errors(double h) {
-  const double omega = 1.0, gamma = 0.1;
-  ParamsOf<DampedOscillator, double> c{omega, gamma};
-  auto x = lane<DampedOscillator>({1.0}, {0.0}, 1.0, 1.0, c);
-  auto k = HybridLeapfrog::coefficients<DampedOscillator>(h, c, x);
-  Errors e{0, 0, 0, 0};
-  const auto per_unit = std::llround(1.0 / h);
-  for (int t = 1; t <= 10; ++t) {
-    for (long n = 0; n < per_unit; ++n) HybridLeapfrog::step<DampedOscillator, kAll>(x, c, k);
-    auto ex = test::exact_damped_oscillator(t, omega, gamma, 1.0, 0.0, 1.0, 1.0);
-    e.q = std::max(e.q, std::fabs(x.q[0] - ex.q));
-    e.p = std::max(e.p, std::fabs(x.p[0] - ex.p));
-    e.z = std::max(e.z, std::fabs(x.z - ex.z));
-    e.log_lambda = std::max(e.log_lambda, std::fabs(x.mu - ex.log_lambda));
-  }
-  return e;
-}
-
-TEST(HybridLeapfrog, SecondOrderOnSceneAInEveryVariable) {
-  std::vector<double> hs{0.1, 0.05, 0.025, 0.0125};
-  std::vector<Errors> errors;
-  for (double h : hs) errors.push_back(scene_a_errors(h));
-  for (std::size_t i = 0; i + 1 < hs.size(); ++i) {
-    auto order = [&](double Errors::*m) { return std::log2(errors[i].*m / errors[i + 1].*m); };
-    SCOPED_TRACE("h = " + std::to_string(hs[i]));
-    EXPECT_NEAR(order(&Errors::q), 2.0, 0.1);
-    EXPECT_NEAR(order(&Errors::p), 2.0, 0.1);
-    EXPECT_NEAR(order(&Errors::z), 2.0, 0.1);
-    EXPECT_NEAR(order(&Errors::log_lambda), 2.0, 0.1);
-  }
-}
+// Its order (2.00 in q, p, z and ln λ on the exact scene A) is checked with every other
+// method's in test_methods.cpp.
 
 // PHYSICS.md: the relative error of H drifts linearly at −γh²ω²⟨λE⟩/(8H) per unit time.
 // γ = 0.01 keeps γt = 100 at t = 10⁴, far from underflow.

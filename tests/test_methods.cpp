@@ -195,11 +195,14 @@ TYPED_TEST(Methods, ObservedOrderOnTheExactSceneA) {
   for (std::size_t i = 0; i + 1 < hs.size(); ++i) {
     SCOPED_TRACE("h = " + std::to_string(hs[i]));
     auto observed = [&](double Errors::*m) { return std::log2(errors[i].*m / errors[i + 1].*m); };
-    EXPECT_NEAR(observed(&Errors::q), order, 0.2);
-    EXPECT_NEAR(observed(&Errors::p), order, 0.2);
-    EXPECT_NEAR(observed(&Errors::z), order, 0.2);
+    // Second-order methods sit at 2.00 already at h = 0.1 (the paper's method is promised
+    // 2.00 ± 0.1); the higher orders approach theirs from above or below by up to 0.05.
+    const double tolerance = order == 2 ? 0.1 : 0.2;
+    EXPECT_NEAR(observed(&Errors::q), order, tolerance);
+    EXPECT_NEAR(observed(&Errors::p), order, tolerance);
+    EXPECT_NEAR(observed(&Errors::z), order, tolerance);
     if (!Traits<M>::exact_log_lambda) {
-      EXPECT_NEAR(observed(&Errors::log_lambda), order, 0.2);
+      EXPECT_NEAR(observed(&Errors::log_lambda), order, tolerance);
     }
   }
   if (Traits<M>::exact_log_lambda) {

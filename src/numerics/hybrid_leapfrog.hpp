@@ -53,7 +53,7 @@ struct HybridLeapfrog {
   // Called once when a lane is loaded: the first step needs K_q at the initial state.
   template <Scene S, class T>
   static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
-    for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c); });
+    cache_forces<S>(x, c);
   }
 
   template <Scene S, Carry carry, class T>

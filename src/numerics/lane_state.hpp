@@ -2,6 +2,8 @@
 // as an integrator sees it. The kernel keeps it in registers for a block of steps.
 #pragma once
 
+#include "physics/partials.hpp"
+
 namespace cs {
 
 template <int Dof, class T = double>
@@ -14,6 +16,13 @@ struct LaneState {
   T kq[Dof];  // K_q at the current state, reused by the next step where K_q ignores p
   T broken;   // > 0 once a λ factor 1 ± (h/2)K_z reached ≤ 0 (state-dependent K_z only)
 };
+
+// K_q at the lane's current state into its force cache: what the leap-frogs need before their
+// first step (afterwards each step leaves K_q^{n+1} there for the next).
+template <Scene S, class T>
+inline void cache_forces(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
+  for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c); });
+}
 
 // Which optional state a kernel instantiation integrates.
 struct Carry {

@@ -76,7 +76,7 @@ struct SymmetricLeapfrog {
 
   template <Scene S, class T>
   static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
-    for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c); });
+    cache_forces<S>(x, c);
   }
 
   // Forced inline, with everything it calls: the kernel's lane loop vectorises only if the whole
