@@ -200,12 +200,49 @@ TEST(SpecParser, GridAxisWinsOverTheSceneValue) {
   EXPECT_EQ(spec.axes[1].values, (std::vector<double>{5.0}));
 }
 
-TEST(SpecParser, GridOfExactly2To40PointsIsAccepted) {
-  // The size check happens before any coordinate is built, so only small axes are allocated.
-  const RunSpec spec = parse(kDoubleWell +
-                             "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
-                             "p_0 = { from = 0, to = 1, n = 1048576 }\n");
-  EXPECT_EQ(spec.grid_points(), std::int64_t{1} << 40);
+void expect_input_error(const std::string& text, const std::string& fragment) {
+  const std::string message = message_of(text);
+  EXPECT_NE(message.find(fragment), std::string::npos) << message;
+}
+
+TEST(SpecParser, GridBeyondTheMemoryBudgetIsRefusedBeforeAnyCoordinateIsBuilt) {
+  // 2^40 points pass the index check but need 8 TiB: refused before linspace fills 2 x 8 MiB.
+  const std::string huge = kDoubleWell +
+                           "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
+                           "p_0 = { from = 0, to = 1, n = 1048576 }\n";
+  expect_input_error(huge, "the grid has 1099511627776 points and needs at least 8.19e+03 GiB");
+}
+
+// Sets CONTACTSWEEP_MEMORY_LIMIT for one test and restores the environment after it.
+class MemoryLimit {
+ public:
+  explicit MemoryLimit(const char* value) { setenv(kName, value, 1); }
+  ~MemoryLimit() { unsetenv(kName); }
+
+ private:
+  static constexpr const char* kName = "CONTACTSWEEP_MEMORY_LIMIT";
+};
+
+TEST(SpecParser, MemoryLimitFromTheEnvironmentBoundsTheGrid) {
+  const MemoryLimit limit("1M");  // 0.8 MiB usable: 104857 doubles
+  // 320 x 320 = 102400 points + 640 coordinates = 103040 doubles: fits.
+  EXPECT_EQ(parse(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 320 }\n"
+                                "p_0 = { from = 0, to = 1, n = 320 }\n")
+                .grid_points(),
+            102400);
+  // 324 x 324 = 104976 + 648 doubles: over.
+  expect_input_error(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 324 }\n"
+                                   "p_0 = { from = 0, to = 1, n = 324 }\n",
+                     "the grid has 104976 points");
+}
+
+TEST(SpecParser, MalformedMemoryLimitIsNamed) {
+  for (const char* bad : {"12X", "", "-5", "0", "8GB", "1.5G"}) {
+    const MemoryLimit limit(bad);
+    expect_input_error(kDoubleWell + "[grid]\nq_0 = { values = [1] }\n",
+                       "CONTACTSWEEP_MEMORY_LIMIT='" + std::string(bad) + "': expected a whole "
+                       "number of bytes > 0");
+  }
 }
 
 // numpy.linspace, bit for bit. The expected values were produced with numpy 1.24.2:

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <utility>
 
+#include "io/memory_budget.hpp"
 #include "numerics/method_catalog.hpp"
 #include "physics/scene_catalog.hpp"
 
@@ -550,6 +551,17 @@ class SpecReader {
       }
       points *= draft.size();
     }
+    // Before linspace fills anything: the coordinates, and at least one 8-byte result per point
+    // (check_resources in sweep.cpp refines this once the measures are known).
+    double bytes = static_cast<double>(points);
+    for (const AxisDraft& draft : drafts) bytes += static_cast<double>(draft.size());
+    bytes *= sizeof(double);
+    if (const double budget = memory_budget_bytes(); bytes > 0.8 * budget)
+      fail(doc_.get("grid"),
+           fmt::format("the grid has {} points and needs at least {:.3g} GiB of memory, but {:.3g} "
+                       "GiB is available (free memory, cgroup limit, CONTACTSWEEP_MEMORY_LIMIT); "
+                       "use a coarser grid or split the sweep",
+                       points, bytes / 1073741824.0, budget / 1073741824.0));
   }
 
   void check_axis_values(const AxisDraft& draft) const {

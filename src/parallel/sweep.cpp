@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "engine/run_plan.hpp"
+#include "io/memory_budget.hpp"
 #include "io/output_file.hpp"
 #include "io/output_inspect.hpp"
 #include "parallel/journal.hpp"
@@ -137,8 +138,7 @@ void check_resources(const RunPlan& plan, const SweepOptions& options, const Com
   const double points = static_cast<double>(plan.grid.size());
   const double memory_per_rank = points / c.size * values_per_point * sizeof(double);
   const double file_bytes = points * values_per_point * sizeof(double);
-  const double available_memory =
-      static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  const double available_memory = memory_budget_bytes();
   auto gib = [](double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); };
   // Ranks on one node share its memory; assume all of them do (the safe side on a laptop).
   if (memory_per_rank * c.size > 0.8 * available_memory)
