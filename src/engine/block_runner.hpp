@@ -38,6 +38,7 @@ class BlockRunner {
     std::int64_t n = 0;       // steps done
     bool trapped = false;     // basin decided by the energy trap
     double settle_time = 0.0;
+    std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
     SyncTracker sync;
   };
 
@@ -145,6 +146,7 @@ class BlockRunner {
     Book b;
     b.point = k;
     if (Method::template breaks_down<S>(coef)) {
+      observe(b, x, c);  // the initial state is sound; its first step is what breaks down
       finish(b, x, c, LaneStatus::breakdown);
       return false;
     }
@@ -270,7 +272,10 @@ class BlockRunner {
     if (map.basin >= 0 && !b.trapped) check_trap(b, x, c);
     if (plan_.samples > 0) {
       auto every = plan_.spec.measures.trajectory->every;
-      if (b.n % every == 0) record_sample(b.point, b.n / every, x, c);
+      if (b.n % every == 0) {
+        record_sample(b.point, b.n / every, x, c);
+        b.samples_recorded = b.n / every + 1;
+      }
     }
     if (map.sync_r >= 0 && b.n >= sync_n0_ && b.n <= sync_n1_ && b.n % plan_.chunk == 0)
       sample_sync(b, b.n, x.q, x.p, c);
@@ -333,9 +338,9 @@ class BlockRunner {
       if (map.final_vars[i] >= 0) column(map.final_vars[i], k)[0] = v[i];
     if (map.final_H >= 0) column(map.final_H, k)[0] = H;
     if (plan_.samples > 0 && status != LaneStatus::ok) {
-      // A failed lane's trajectory ends where it failed: later samples stay NaN.
-      auto every = plan_.spec.measures.trajectory->every;
-      for (auto s = b.n / every + 1; s < plan_.samples; ++s) {
+      // A failed lane's trajectory ends where it failed: every sample not recorded while it was
+      // healthy is NaN, including one due at the look that found it failed (b.n).
+      for (auto s = b.samples_recorded; s < plan_.samples; ++s) {
         for (int i = 0; i < kMaxVars; ++i)
           if (map.traj_vars[i] >= 0) column(map.traj_vars[i], k)[s] = nan;
         if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
