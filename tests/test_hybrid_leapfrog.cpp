@@ -8,6 +8,7 @@
 #include "numerics/hybrid_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/z2_damping.hpp"
+#include "support/format_number.hpp"
 
 namespace cs {
 namespace {
@@ -81,7 +82,7 @@ TEST(HybridLeapfrog, HDriftsLinearlyAtThePredictedRate) {
   double mean_lambda_E = sum_lambda_E / steps;
   double predicted_rate = -gamma * h * h * omega * omega * mean_lambda_E / (8.0 * H0);
   double measured_rate = drift.back() / 1e4;
-  RecordProperty("measured_rate", std::to_string(measured_rate));
+  RecordProperty("measured_rate", test::full_precision(measured_rate));
   // The law is the leading term of a modified-equation expansion; oscillating terms of
   // relative size O(h) and the O(γ) variation of λE over a period stay far below 5 %.
   EXPECT_NEAR(measured_rate / predicted_rate, 1.0, 0.05);

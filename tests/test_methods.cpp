@@ -22,6 +22,7 @@
 #include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"
 #include "support/exact_damped_oscillator.hpp"
+#include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
 #include "support/run_in_memory.hpp"
 
@@ -268,10 +269,10 @@ TYPED_TEST(Methods, LongTimeHOnSceneA) {
     if (n % quarter == 0) quarter_end[n / quarter - 1] = rel;
   }
   const double overall = *std::max_element(quarter_max, quarter_max + 4);
-  this->RecordProperty("max_rel_H_error", std::to_string(overall));
+  this->RecordProperty("max_rel_H_error", test::full_precision(overall));
   if (Traits<M>::long_time_h == LongTimeH::bounded) {
     const double predicted = predicted_h_amplitude<M>(h, omega, 1.0, 0.0, H0);
-    this->RecordProperty("predicted", std::to_string(predicted));
+    this->RecordProperty("predicted", test::full_precision(predicted));
     // Reaches the bound and never exceeds it; and no secular trend.
     EXPECT_NEAR(overall / predicted, 1.0, 0.03);
     EXPECT_NEAR(quarter_max[3] / quarter_max[0], 1.0, 0.01);

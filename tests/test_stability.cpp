@@ -20,6 +20,7 @@
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
+#include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
 
 namespace cs {
@@ -100,7 +101,7 @@ TYPED_TEST(Stability, LimitOnSceneA) {
   using M = TypeParam;
   constexpr double tolerance = 1e-9;
   const double limit = stability_limit<M>(tolerance);
-  this->RecordProperty("limit", std::to_string(limit));
+  this->RecordProperty("limit", test::full_precision(limit));
   // The expected values are printed to 4 decimals: half a unit of the last digit, plus the
   // bisection's tolerance.
   EXPECT_NEAR(limit, Expected<M>::limit, 0.5e-4 + tolerance);

@@ -48,6 +48,7 @@
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
 #include "physics/scene_bounds.hpp"
+#include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
 #include "support/run_in_memory.hpp"
 
@@ -98,22 +99,17 @@ struct Limit<Rk4> {
 const std::vector<double> kQ0 = {-1.0, 0.0, 0.5, 1.0}, kP0 = {-1.0, 0.0, 1.0};
 constexpr int kEvery = 32;  // trajectory interval = the engine's chunk: every look is a sample
 
-std::string fmt17(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string list(const std::vector<double>& v) {
   std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + fmt17(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + test::full_precision(v[i]);
   return s + "]";
 }
 
 std::string scene_a_spec(const char* method, double h, long steps) {
   return std::string("[scene]\nname = \"damped_oscillator\"\nomega = 1.0\ngamma = 0.1\n") +
          "[initial]\nz = 1.0\nlambda = 1.0\n" + "[integrator]\nmethod = \"" + method +
-         "\"\nh = " + fmt17(h) + "\nt_end = " + fmt17(static_cast<double>(steps) * h) + "\n" +
+         "\"\nh = " + test::full_precision(h) +
+         "\nt_end = " + test::full_precision(static_cast<double>(steps) * h) + "\n" +
          "[grid]\nq_0 = { values = " + list(kQ0) + " }\np_0 = { values = " + list(kP0) + " }\n" +
          "[measures]\nfinal_state = true\ntrajectory = { every = " + std::to_string(kEvery) +
          " }\n";
@@ -189,8 +185,8 @@ TYPED_TEST(StabilityRuns, BoundedJustBelowTheLimitFlaggedJustAbove) {
   for (double q0 : kQ0)
     for (double p0 : kP0)
       if (q0 != 0.0 || p0 != 0.0) steps = std::max(steps, steps_past_bound(m_above, q0, p0));
-  this->RecordProperty("rho_below", fmt17(rho_below));
-  this->RecordProperty("rho_above", fmt17(rho_above));
+  this->RecordProperty("rho_below", test::full_precision(rho_below));
+  this->RecordProperty("rho_above", test::full_precision(rho_above));
   this->RecordProperty("steps", static_cast<int>(steps));
   const long samples = steps / kEvery + 1;
 
@@ -357,7 +353,7 @@ TEST(StabilityRunsSceneB, LambdaFactorBreakdownIsFlaggedAtThePredictedStep) {
   for (std::size_t cell = 0; cell < z0.size(); ++cell) {
     const long n = predicted_breakdown_step(h * kGamma * z0[cell], steps);
     EXPECT_EQ(n, expected[cell]) << "z0 " << z0[cell];
-    RecordProperty("breakdown_step_z0_" + fmt17(z0[cell]), static_cast<int>(n));
+    RecordProperty("breakdown_step_z0_" + test::full_precision(z0[cell]), static_cast<int>(n));
     EXPECT_EQ(r["status"][cell], n > 0 ? kBreakdown : kOk) << "z0 " << z0[cell];
     for (const char* name : kFinal)
       EXPECT_EQ(std::isnan(r[name][cell]), n > 0) << name << " z0 " << z0[cell];
