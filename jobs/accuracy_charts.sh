@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Accuracy charts: stability maps over h and work-precision (error against cost, per trajectory and
-# per basin map) for every integrator; copies the PNGs into sweeps/figures/ (see
-# sweeps/figures/ACCURACY.md for the numbers they show).
+# per basin map) for every integrator; copies the PNGs into sweeps/figures/ (the README's
+# "Methods: accuracy, cost and stability" section quotes the numbers they print).
 #   bash jobs/accuracy_charts.sh [--quick]
 # Writes out/stability/ and out/work_precision/ (HDF5, work_precision.json, PNGs, and the printed
 # tables in *.log). Runs from any directory; builds build/contactsweep if it is missing.
-# Runtime on this project's machine (2 cores, shared): stability maps ~1 min, work-precision
-# ~6 min (timing runs and basin maps on 1 thread, medians of 3); --quick: under a minute in all.
+# Runtime on this project's machine (2 cores, shared): stability maps ~25 s, work-precision
+# ~5 min (timing runs and basin maps on 1 thread, medians of 5); --quick: under a minute in all.
 # Timings are taken with OMP_NUM_THREADS=1: run it on an otherwise idle machine.
 # Environment: CONTACTSWEEP_BIN (default build/contactsweep, built if it is missing), FIGURES_DIR
 # (default sweeps/figures).
