@@ -5,7 +5,7 @@
 #   bash jobs/bench_basins.sh [REPEATS=5] [RANKS=2] [THREADS=1]
 # Rates are nominal: grid points x steps / time, so the early-stop rate shows its gain. Two
 # times per run: "wall" is the whole mpirun command (process launch ~0.4 s here included);
-# "run" is the program's own end-to-end time (spec parsing, integration, HDF5 write and
+# "run" is the program's own end-to-end time (set-up after spec parsing, integration, HDF5 write and
 # commit), as it reports it.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

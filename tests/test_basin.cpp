@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/run_plan.hpp"
 #include "numerics/contact_splitting.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
@@ -50,7 +51,7 @@ double largest_energy_rise(double h, double a, double gamma) {
 // ≤ 0.19 for contact_splitting4, ≤ 0.01 for contact_splitting6 and rk4.
 template <class Method>
 void expect_margin_covers_twice() {
-  const double margin_coefficient = 2.0;  // RunPlan::basin_margin_coefficient
+  const double margin_coefficient = RunPlan::basin_margin_coefficient;  // what runs use
   for (double h : {0.01, 0.05, 0.2}) {
     for (double a : {1.0, 1.5}) {
       for (double gamma : {0.0, 0.1}) {
@@ -130,11 +131,13 @@ TEST(BasinTrap, LabelsOfChosenStatesMatchAnAccurateReference) {
   }
   for (std::size_t i = 0; i < states.size(); ++i) {
     auto [q, p] = states[i];
-    auto r = test::run_in_memory(R"(
+    auto r =
+        test::run_in_memory(R"(
       [scene]
       name = "double_well"
       [measures]
-      basin = {})", {"initial.q=" + std::to_string(q), "initial.p=" + std::to_string(p)});
+      basin = {})",
+                            {"initial.q=" + std::to_string(q), "initial.p=" + std::to_string(p)});
     EXPECT_EQ(r["basin"][0], reference_basin(q, p)) << "q0 " << q << " p0 " << p;
   }
   // (0.5, 0) starts below the saddle energy: decided at once.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <string>
 
 #include "support/run_in_memory.hpp"
 
@@ -56,6 +57,72 @@ TEST(SyncMeasures, MatchValuesComputedFromTheStoredTrajectory) {
     std::complex<double> u1(q1[last], -p1[last] / w1), u2(q2[last], -p2[last] / w2);
     EXPECT_NEAR(r["sync_amplitude"][g], std::min(std::abs(u1), std::abs(u2)), 1e-12);
   }
+}
+
+// Oscillator 2 started at rest stays there (its force ω₂²q₂ + 2g q₁²q₂ vanishes): it has no
+// phase and no frequency. The cell is a valid result (status 0); the ratio is NaN and the
+// amplitude, which the dataset's description points to, is exactly 0.
+TEST(SyncMeasures, AnOscillatorAtRestHasNoFrequencyRatioAndZeroAmplitude) {
+  auto r = test::run_in_memory(R"(
+    [scene]
+    name = "coupled_oscillators"
+    [integrator]
+    t_end = 40.0
+    [grid]
+    q2_0 = { values = [0.0, -1.0] }
+    [measures]
+    sync = { window = [10.0, 40.0] })");
+  EXPECT_EQ(r["status"][0], 0.0);
+  EXPECT_EQ(r["sync_amplitude"][0], 0.0);
+  EXPECT_TRUE(std::isnan(r["sync_freq_ratio"][0]));
+  EXPECT_EQ(r["sync_r"][0], 0.0);  // no sample has a defined phase difference
+  // The paper's start (q2 = -1) beside it: every measure defined.
+  EXPECT_EQ(r["status"][1], 0.0);
+  EXPECT_GT(r["sync_amplitude"][1], 0.1);
+  EXPECT_TRUE(std::isfinite(r["sync_freq_ratio"][1]));
+}
+
+// Looks come every 0.2 time units at h = 0.01; a window between two looks would hold one
+// sample, whose "phase-locking value" is 1 by construction.
+TEST(SyncMeasures, AWindowHoldingFewerThanTwoLooksIsRefused) {
+  const std::string spec = R"(
+    [scene]
+    name = "coupled_oscillators"
+    [integrator]
+    t_end = 40.0
+    [measures]
+    sync = { window = [10.05, 10.25] })";
+  try {
+    test::run_in_memory(spec);
+    FAIL() << "a one-look window was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fewer than two looks"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(test::run_in_memory(spec, {"measures.sync.window=[10.0, 10.2]"}));
+}
+
+// For g < 0 the coupling -|g| q1^2 q2^2 is unbounded below: from (2, -2) the oscillators escape
+// to infinity in finite time. The cell is flagged diverged (status 1) and its NaN measures are
+// covered by the flag; the bounded cell (g = 0.8) beside it has finite measures.
+TEST(SyncMeasures, EscapeForNegativeCouplingIsFlaggedDiverged) {
+  auto r = test::run_in_memory(R"(
+    [scene]
+    name = "coupled_oscillators"
+    [initial]
+    q1 = 2.0
+    q2 = -2.0
+    [integrator]
+    t_end = 40.0
+    [grid]
+    g = { values = [-1.0, 0.8] }
+    [measures]
+    sync = { window = [10.0, 40.0] }
+    final_state = true)");
+  EXPECT_EQ(r["status"][0], 1.0);
+  EXPECT_EQ(r["status"][1], 0.0);
+  for (const char* name : {"sync_r", "sync_phase_drift", "sync_freq_ratio", "sync_amplitude",
+                           "final_q1", "final_p2", "final_H"})
+    EXPECT_TRUE(std::isfinite(r[name][1])) << name;
 }
 
 }  // namespace

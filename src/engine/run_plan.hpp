@@ -44,7 +44,7 @@ struct RunPlan {
   // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. After a lane dips below a⁴/2 its
   // energy rises by at most 0.92·h²·a⁶ with any of our methods (worst: the second-order ones at
   // γ = 0, h ≤ 0.2; measured in test_basin.cpp), so C = 2 leaves a factor 2.2.
-  double basin_margin_coefficient = 2.0;
+  static constexpr double basin_margin_coefficient = 2.0;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
   // Flat index of this plan's first point in the whole grid: a run over several step sizes

@@ -433,7 +433,7 @@ class SpecReader {
     if (method == nullptr)
       fail(node, fmt::format("unknown method {}{}; valid methods: {}", toml_string(spec_.method),
                              did_you_mean(spec_.method, methods, ""), fmt::join(methods, ", ")));
-    const Names missing = missing_split_parts(*method);
+    const Names missing = missing_split_parts(*method, scene_->split_parts);
     if (!missing.empty())
       fail(node,
            fmt::format("method {} needs the exact sub-flow(s) {} that scene '{}' does not "
@@ -442,18 +442,10 @@ class SpecReader {
                        fmt::join(scene_->split_parts, ", "), fmt::join(usable_methods(), ", ")));
   }
 
-  // Splitting methods compose exact sub-flows; the scene must offer every one they use.
-  Names missing_split_parts(const MethodInfo& method) const {
-    Names missing;
-    for (const std::string& part : method.needs_split_parts)
-      if (!contains(scene_->split_parts, part)) missing.push_back(part);
-    return missing;
-  }
-
   Names usable_methods() const {
     Names usable;
     for (const MethodInfo& m : method_catalog())
-      if (missing_split_parts(m).empty()) usable.push_back(m.name);
+      if (missing_split_parts(m, scene_->split_parts).empty()) usable.push_back(m.name);
     return usable;
   }
 

@@ -1,5 +1,5 @@
-// One lane's state (T = double) or one pack of lanes' state (T = a pack, engine/lane_pack.hpp)
-// as an integrator sees it. The kernel keeps it in registers for a block of steps.
+// One lane's state as an integrator sees it (T = double; the tiled kernel, engine/lane_tile.hpp,
+// runs the same step over its lanes in a vectorised loop). The kernel keeps it in registers for a block of steps.
 #pragma once
 
 #include "physics/partials.hpp"

@@ -1,6 +1,6 @@
 // Forward-mode dual numbers: a value and one directional derivative. A scene writes K once as a
 // template over its number type; evaluating it with one input seeded gives that partial. `T` is
-// a double or a pack of lanes (engine/lane_pack.hpp); everything is inline and branch-free, and
+// a double (the tiled kernel vectorises its loop over lanes); everything is inline and branch-free, and
 // terms that do not involve the seeded input stay plain numbers and cost nothing extra.
 #pragma once
 

@@ -22,7 +22,7 @@
    the spec) per method and step size (whole steps of 100): fraction of cells whose basin differs
    from a fine reference map (contact_splitting6, h = 0.0025; its own differing fraction against
    h / 2 is printed), against the time to compute the map: the program's own end-to-end time
-   (parse, integrate, HDF5 write; OMP_NUM_THREADS=1, median of 5), which leaves out the process
+   (set-up, integrate, HDF5 write; OMP_NUM_THREADS=1, median of 5), which leaves out the process
    launch (~0.4 s here, printed).
 
 Writes DIR/*.h5, DIR/work_precision.json (every number below) and the charts
@@ -72,7 +72,7 @@ def spec_of(path):
 
 def run_timed(binary, spec, out, sets):
     """One run on 1 thread; returns (wall seconds of the command, the program's own end-to-end
-    time: spec parsing, integration, HDF5 write and commit, without process and MPI launch)."""
+    time: set-up, integration, HDF5 write and commit, without process and MPI launch and spec parsing)."""
     cmd = [str(binary), "run", str(spec), "-o", str(out), "--force"]
     for key, value in sets:
         cmd += ["--set", f"{key}={value}"]
@@ -374,7 +374,7 @@ def basins(binary, methods, out, quick):
     print(f"\nbasin map {n} x {n} (t_end = 100, early stop): fraction of cells whose basin differs "
           f"from contact_splitting6 at h = {h_ref:g} (which itself differs from h = {h_ref / 2:g} "
           f"in {ref_diff:.2e} = {round(ref_diff * n * n)} cells). Time: the program's own time "
-          f"(parse, integrate, write; 1 thread, median of {repeats}); a one-step map takes "
+          f"(set-up, integrate, write; 1 thread, median of {repeats}); a one-step map takes "
           f"{setup:.3f} s of it, and the command's wall time adds the process launch "
           f"({launch - setup:.2f} s)")
     print("per method: differing fraction (cells), time [s]")
