@@ -149,7 +149,9 @@ void check_resources(const RunPlan& plan, const SweepOptions& options, const Com
   auto directory = std::filesystem::absolute(options.output).parent_path();
   std::error_code error;
   auto space = std::filesystem::space(directory, error);
-  if (error || ::access(directory.c_str(), W_OK) != 0)
+  // access() alone passes a regular file for root, so the parent must be a directory too.
+  if (error || !std::filesystem::is_directory(directory) ||
+      ::access(directory.c_str(), W_OK) != 0)
     throw InputError("cannot write the output '" + options.output + "': directory '" +
                      directory.string() + "' is missing or not writable");
   if (file_bytes > 0.95 * static_cast<double>(space.available))

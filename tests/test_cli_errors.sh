@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# Bad input at the command line, end to end: the real binary must exit with status 2, name the
+# problem on stderr, and leave nothing behind (no output, no journal, no temporary file); an
+# existing output must survive untouched. The parser's message corpus is in test_spec_parser.cpp;
+# this checks what a user's shell sees, also under mpirun.
+#   test_cli_errors.sh CONTACTSWEEP MPIEXEC
+# Last line: "N passed, M failed".
+set -uo pipefail
+bin=$(realpath "$1") mpiexec=$2
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+work=$(mktemp -d)
+trap 'mountpoint -q "$work/small_disk" && umount "$work/small_disk"; rm -rf "$work"' EXIT
+
+cat >"$work/good.toml" <<'EOF'
+[scene]
+name = "double_well"
+[integrator]
+h = 0.01
+t_end = 1.0
+[grid]
+q_0 = { from = -3.0, to = 3.0, n = 64 }
+p_0 = { from = -3.0, to = 3.0, n = 64 }
+[measures]
+basin = {}
+final_state = true
+EOF
+
+passed=0 failed=0
+# expect NAME STATUS FRAGMENT DIR -- COMMAND...: runs COMMAND in DIR; checks the exit status,
+# that stderr contains FRAGMENT, and that DIR holds afterwards exactly what it held before.
+expect() {
+  local name=$1 status=$2 fragment=$3 dir=$4
+  shift 5
+  local before after rc=0
+  before=$(cd "$dir" && find . -mindepth 1 -printf '%p %s %T@\n' | sort)
+  (cd "$dir" && "$@") >"$work/stdout" 2>"$work/stderr" </dev/null || rc=$?
+  after=$(cd "$dir" && find . -mindepth 1 -printf '%p %s %T@\n' | sort)
+  local why=()
+  ((rc == status)) || why+=("exit status $rc, expected $status")
+  grep -qF -- "$fragment" "$work/stderr" || why+=("stderr lacks '$fragment'")
+  [[ $before == "$after" ]] || why+=("the directory changed: $(diff <(echo "$before") <(echo "$after") | tr '\n' ' ')")
+  if ((${#why[@]} == 0)); then
+    echo "ok    $name"
+    passed=$((passed + 1))
+  else
+    echo "FAIL  $name: ${why[*]}"
+    sed 's/^/      stderr: /' "$work/stderr" | head -5
+    failed=$((failed + 1))
+  fi
+}
+
+spec_with() {  # a copy of good.toml with one line replaced: spec_with NAME SED-EXPRESSION
+  sed "$2" "$work/good.toml" >"$work/$1.toml"
+  echo "$work/$1.toml"
+}
+
+d=$work/out
+mkdir -p "$d"
+expect "unknown key, closest valid one suggested" 2 "did you mean 'integrator.method'" "$d" -- \
+  "$bin" run "$(spec_with typo 's/^h = 0.01/metod = "rk4"/')"
+expect "unknown scene, valid ones listed" 2 "coupled_oscillators" "$d" -- \
+  "$bin" run "$(spec_with scene 's/double_well/double_wel/')"
+expect "malformed TOML, with line and column" 2 "toml.toml:5:9: malformed TOML" "$d" -- \
+  "$bin" run "$(spec_with toml 's/^t_end = 1.0/t_end = = 1.0/')"
+expect "t_end not a whole number of steps" 2 "whole number of steps" "$d" -- \
+  "$bin" run "$(spec_with steps 's/^t_end = 1.0/t_end = 1.005/')"
+expect "--set without '='" 2 "integrator.h" "$d" -- "$bin" run "$work/good.toml" --set integrator.h
+expect "--set of an unknown key" 2 "integrator.hh" "$d" -- "$bin" run "$work/good.toml" --set integrator.hh=0.1
+expect "--set h = 0" 2 "integrator.h" "$d" -- "$bin" run "$work/good.toml" --set integrator.h=0
+expect "unreadable spec" 2 "missing.toml" "$d" -- "$bin" run "$work/missing.toml"
+expect "unknown option" 2 "--frobnicate" "$d" -- "$bin" run "$work/good.toml" --frobnicate
+expect "output directory is a file" 2 "not writable" "$d" -- \
+  "$bin" run "$work/good.toml" -o "$work/good.toml/out.h5"
+expect "results larger than the memory budget" 2 "of memory" "$d" -- \
+  env CONTACTSWEEP_MEMORY_LIMIT=64K "$bin" run "$work/good.toml" -o grid.h5
+
+# An existing output is never replaced without --force, and stays as it was.
+"$bin" run "$work/good.toml" -o "$d/kept.h5" --quiet </dev/null || echo "FAIL  setup run"
+expect "existing output without --force" 2 "pass --force" "$d" -- \
+  "$bin" run "$work/good.toml" -o kept.h5
+expect "--resume of another spec's output" 2 "not made by this spec" "$d" -- \
+  "$bin" run "$work/good.toml" -o kept.h5 --resume --set integrator.t_end=2.0
+
+# Under mpirun: the same status, the message once (rank 0 only), nothing written.
+expect "bad input under mpirun -np 2" 2 "did you mean 'integrator.method'" "$d" -- \
+  $mpiexec -np 2 "$bin" run "$work/typo.toml" -o mpi.h5
+if (( $(grep -c "did you mean" "$work/stderr") != 1 )); then
+  echo "FAIL  under mpirun the message should appear once, not $(grep -c "did you mean" "$work/stderr") times"
+  failed=$((failed + 1))
+fi
+
+# An output larger than the free disk: a 64 KiB file system for a ~200 KiB file.
+mkdir -p "$work/small_disk"
+if mount -t tmpfs -o size=64k tmpfs "$work/small_disk" 2>/dev/null; then
+  expect "output larger than the free disk" 2 "free" "$work/small_disk" -- \
+    "$bin" run "$work/good.toml" -o big.h5
+else
+  echo "note  output larger than the free disk: not run (mounting a small tmpfs needs root)"
+fi
+
+# The harness itself: a good run exits 0 and its file appears (so 'nothing written' above means
+# something).
+rc=0
+(cd "$d" && "$bin" run "$work/good.toml" -o fresh.h5 --quiet </dev/null) || rc=$?
+if ((rc == 0)) && [[ -s $d/fresh.h5 ]]; then
+  echo "ok    a good run exits 0 and writes its file"
+  passed=$((passed + 1))
+else
+  echo "FAIL  a good run: exit $rc, file $(ls -l "$d/fresh.h5" 2>&1)"
+  failed=$((failed + 1))
+fi
+
+echo "$passed passed, $failed failed"
+((failed == 0))
