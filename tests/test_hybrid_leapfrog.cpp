@@ -8,10 +8,11 @@
 
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
+#include "numerics/symmetric_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
-#include "physics/scene_bounds.hpp"
 #include "physics/z2_damping.hpp"
 #include "support/format_number.hpp"
+#include "support/p_dependent_forces.hpp"
 
 namespace cs {
 namespace {
@@ -65,31 +66,7 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
 // Its order (2.00 in q, p, z and ln λ on the exact scene A) is checked with every other
 // method's in test_methods.cpp.
 
-// A scene (tests only) whose K_q and K_z depend on p, where the paper leaves open which p enters
-// K_q^{n+1} and K_z^{n+1}; hybrid_leapfrog.hpp takes p^{n+1}. K_p depends on z, so z feeds back.
-//   K = p²/2 + q²/2 + ε q²p²/2 − γ z (1 + δ p²/2)
-struct PDependentForces {
-  static constexpr int dof = 1;
-  static constexpr bool z_feeds_back = true;
-  static constexpr bool kz_constant = false;
-  static constexpr bool p_in_forces = true;
-  template <class T>
-  struct Params {
-    T eps, gamma, delta;
-  };
-  template <class T>
-  static Params<T> params_from(const T* v) {
-    return {v[0], v[1], v[2]};
-  }
-  template <class X, class T>
-  static auto K(const X& x, const Params<T>& c) {
-    const auto pp = p<0>(x) * p<0>(x), qq = q<0>(x) * q<0>(x);
-    return 0.5 * pp + 0.5 * qq + (0.5 * c.eps) * (qq * pp) -
-           c.gamma * z(x) * (1.0 + 0.5 * c.delta * pp);
-  }
-  static bool diverged(const double* q, const double* p) { return beyond_bound<dof>(q, p); }
-};
-
+using test::PDependentForces;
 constexpr PDependentForces::Params<double> kPForces{0.3, 0.2, 0.5};
 
 TEST(HybridLeapfrog, ForcesDependingOnPAreEvaluatedAtTheNewMomentum) {
@@ -144,14 +121,19 @@ TEST(HybridLeapfrog, ForcesDependingOnPKeepSecondOrder) {
     return std::array<double, 4>{x.q[0], x.p[0], x.z, x.mu};
   };
   const auto reference = run(Rk4{}, 2e-4);  // RK4's error ~ (2e-4)^4: negligible
-  double e[3];
-  for (int i = 0; i < 3; ++i) {
-    const auto y = run(HybridLeapfrog{}, 0.04 / (1 << i));
-    e[i] = 0.0;
-    for (int j = 0; j < 4; ++j) e[i] = std::max(e[i], std::fabs(y[j] - reference[j]));
-  }
-  EXPECT_NEAR(std::log2(e[0] / e[1]), 2.0, 0.1) << e[0] << " " << e[1];
-  EXPECT_NEAR(std::log2(e[1] / e[2]), 2.0, 0.1) << e[1] << " " << e[2];
+  auto expect_order_2 = [&](auto method, const char* name) {
+    double e[3];
+    for (int i = 0; i < 3; ++i) {
+      const auto y = run(method, 0.04 / (1 << i));
+      e[i] = 0.0;
+      for (int j = 0; j < 4; ++j) e[i] = std::max(e[i], std::fabs(y[j] - reference[j]));
+    }
+    EXPECT_NEAR(std::log2(e[0] / e[1]), 2.0, 0.1) << name << ": " << e[0] << " " << e[1];
+    EXPECT_NEAR(std::log2(e[1] / e[2]), 2.0, 0.1) << name << ": " << e[1] << " " << e[2];
+  };
+  expect_order_2(HybridLeapfrog{}, "hybrid_leapfrog");
+  // The symmetric leap-frog's own implicit half step in p (fixed point) on the same scene.
+  expect_order_2(SymmetricLeapfrog{}, "symmetric_leapfrog");
 }
 
 // PHYSICS.md: the relative error of H drifts linearly at −γh²ω²⟨λE⟩/(8H) per unit time.
