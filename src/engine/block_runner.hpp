@@ -94,8 +94,7 @@ class BlockRunner {
 
   void clear(Tile& t, Book* book, int i) {
     t.set_lane(i, idle_);
-    t.params[i] = uniform_params_;
-    t.coef[i] = uniform_coef_;
+    t.set_parameters(i, uniform_params_, uniform_coef_);
     book[i] = Book{};
     if (&t == &main_) {
       steps_done_[i] = 0;
@@ -156,8 +155,7 @@ class BlockRunner {
       return false;
     }
     main_.set_lane(i, x);
-    main_.params[i] = c;
-    main_.coef[i] = coef;
+    main_.set_parameters(i, c, coef);
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
     arm_trap(i, c);
@@ -181,7 +179,8 @@ class BlockRunner {
     for (int i = 0; i < W; ++i) {
       int healthy = t.broken[i] <= 0.0;
       for (int d = 0; d < D; ++d)
-        healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
+        healthy &=
+            (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       int trapped = 0;
       if constexpr (std::is_same_v<S, DoubleWell>) {
         double well = t.q[0][i] * t.q[0][i] - a2_[i];
@@ -216,7 +215,7 @@ class BlockRunner {
       b.n = steps_done_[i];
       countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
-      const Params& c = main_.params[i];
+      const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
       if (!failed) observe(b, x, c);
@@ -236,8 +235,7 @@ class BlockRunner {
     if (fin_count_ == W) run_finisher();
     int j = fin_count_++;
     fin_.set_lane(j, main_.lane(i));
-    fin_.params[j] = main_.params[i];
-    fin_.coef[j] = main_.coef[i];
+    fin_.set_parameters(j, main_.params(i), main_.coef(i));
     fin_book_[j] = main_book_[i];
     clear(main_, main_book_, i);
     --active_;
@@ -251,16 +249,19 @@ class BlockRunner {
       LaneState<D> x = fin_.lane(j);
       LaneStatus status = LaneStatus::ok;
       lane_failed(x, status);
-      if (status == LaneStatus::ok) observe(b, x, fin_.params[j]);
-      finish(b, x, fin_.params[j], status);
+      const Params c = fin_.params(j);
+      if (status == LaneStatus::ok) observe(b, x, c);
+      finish(b, x, c, status);
       clear(fin_, fin_book_, j);
     }
     fin_count_ = 0;
   }
 
   static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
-    if (x.broken > 0.0) status = LaneStatus::breakdown;
-    else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
+    if (x.broken > 0.0)
+      status = LaneStatus::breakdown;
+    else if (S::diverged(x.q, x.p))
+      status = LaneStatus::diverged;
     return status != LaneStatus::ok;
   }
 
