@@ -5,11 +5,11 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/run_plan.hpp"
 #include "numerics/contact_splitting.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
+#include "engine/run_plan.hpp"
 #include "physics/double_well.hpp"
 #include "support/run_in_memory.hpp"
 
@@ -131,13 +131,11 @@ TEST(BasinTrap, LabelsOfChosenStatesMatchAnAccurateReference) {
   }
   for (std::size_t i = 0; i < states.size(); ++i) {
     auto [q, p] = states[i];
-    auto r =
-        test::run_in_memory(R"(
+    auto r = test::run_in_memory(R"(
       [scene]
       name = "double_well"
       [measures]
-      basin = {})",
-                            {"initial.q=" + std::to_string(q), "initial.p=" + std::to_string(p)});
+      basin = {})", {"initial.q=" + std::to_string(q), "initial.p=" + std::to_string(p)});
     EXPECT_EQ(r["basin"][0], reference_basin(q, p)) << "q0 " << q << " p0 " << p;
   }
   // (0.5, 0) starts below the saddle energy: decided at once.

@@ -10,12 +10,12 @@
 #include <random>
 
 #include "engine/lane_tile.hpp"
-#include "io/spec_parser.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
 #include "physics/coupled_oscillators.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"
+#include "io/spec_parser.hpp"
 #include "support/run_in_memory.hpp"
 
 namespace cs {
@@ -162,9 +162,7 @@ TEST(EngineBlocks, EveryLaneEqualsScalarStepsThroughTheFinisher) {
       HybridLeapfrog::start<DoubleWell>(x, c);
       auto k = HybridLeapfrog::coefficients<DoubleWell>(0.01, c, x);
       for (long s = 0; s < steps; ++s) HybridLeapfrog::step<DoubleWell, Carry{true, true}>(x, c, k);
-      ASSERT_TRUE(same_bits(r["final_q"][cell], x.q[0]))
-          << "cell " << cell << " settle " << settle << " steps " << steps << " q "
-          << r["final_q"][cell] << " vs " << x.q[0];
+      ASSERT_TRUE(same_bits(r["final_q"][cell], x.q[0])) << "cell " << cell << " settle " << settle << " steps " << steps << " q " << r["final_q"][cell] << " vs " << x.q[0];
       ASSERT_TRUE(same_bits(r["final_p"][cell], x.p[0])) << "cell " << cell;
       ASSERT_TRUE(same_bits(r["final_z"][cell], x.z)) << "cell " << cell;
       ASSERT_TRUE(same_bits(r["final_log_lambda"][cell], x.mu)) << "cell " << cell;

@@ -231,9 +231,8 @@ TEST(SpecParser, MemoryLimitFromTheEnvironmentBoundsTheGrid) {
                 .grid_points(),
             102400);
   // 324 x 324 = 104976 + 648 doubles: over.
-  expect_input_error(kDoubleWell +
-                         "[grid]\nq_0 = { from = 0, to = 1, n = 324 }\n"
-                         "p_0 = { from = 0, to = 1, n = 324 }\n",
+  expect_input_error(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 324 }\n"
+                                   "p_0 = { from = 0, to = 1, n = 324 }\n",
                      "the grid has 104976 points");
 }
 
@@ -241,9 +240,8 @@ TEST(SpecParser, MalformedMemoryLimitIsNamed) {
   for (const char* bad : {"12X", "", "-5", "0", "8GB", "1.5G"}) {
     const MemoryLimit limit(bad);
     expect_input_error(kDoubleWell + "[grid]\nq_0 = { values = [1] }\n",
-                       "CONTACTSWEEP_MEMORY_LIMIT='" + std::string(bad) +
-                           "': expected a whole "
-                           "number of bytes > 0");
+                       "CONTACTSWEEP_MEMORY_LIMIT='" + std::string(bad) + "': expected a whole "
+                       "number of bytes > 0");
   }
 }
 

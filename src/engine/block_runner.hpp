@@ -179,8 +179,7 @@ class BlockRunner {
     for (int i = 0; i < W; ++i) {
       int healthy = t.broken[i] <= 0.0;
       for (int d = 0; d < D; ++d)
-        healthy &=
-            (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
+        healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       int trapped = 0;
       if constexpr (std::is_same_v<S, DoubleWell>) {
         double well = t.q[0][i] * t.q[0][i] - a2_[i];
@@ -258,10 +257,8 @@ class BlockRunner {
   }
 
   static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
-    if (x.broken > 0.0)
-      status = LaneStatus::breakdown;
-    else if (S::diverged(x.q, x.p))
-      status = LaneStatus::diverged;
+    if (x.broken > 0.0) status = LaneStatus::breakdown;
+    else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
     return status != LaneStatus::ok;
   }
 

@@ -95,18 +95,9 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
     for (int i = 0; i < W; ++i) {
       LaneState<D> x;
       for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i], x.kq[d] = t.kq[d][i];
-      if constexpr (carry.z || S::z_feeds_back)
-        x.z = t.z[i];
-      else
-        x.z = 0.0;
-      if constexpr (carry.mu)
-        x.mu = t.mu[i];
-      else
-        x.mu = 0.0;
-      if constexpr (!S::kz_constant)
-        x.broken = t.broken[i];
-      else
-        x.broken = 0.0;
+      if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
+      if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
+      if constexpr (!S::kz_constant) x.broken = t.broken[i]; else x.broken = 0.0;
       if constexpr (Uniform) {
         Method::template step<S, carry>(x, c0, k0);
       } else {

@@ -1,11 +1,11 @@
 #include "engine/run_plan.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numeric>
+
+#include <fmt/format.h>
 
 #include "engine/block_runner.hpp"
 #include "numerics/contact_splitting.hpp"
@@ -63,37 +63,20 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     return static_cast<int>(columns.size() - 1);
   };
 
-  map.status = add({"status",
-                    ElementType::uint8,
-                    false,
-                    "integration status",
-                    "",
-                    {0, 1, 2},
-                    "ok diverged integrator_breakdown",
-                    std::nullopt});
+  map.status = add({"status", ElementType::uint8, false, "integration status", "", {0, 1, 2},
+                    "ok diverged integrator_breakdown", std::nullopt});
 
   if (measures.final_state) {
     const auto& vars = measures.final_state->vars;
     for (std::size_t i = 0; i < nvars; ++i) {
       const auto& v = scene.variables[i];
       if (!wants(vars, v.name)) continue;
-      map.final_vars[i] = add({"final_" + dataset_variable(v.name),
-                               ElementType::float64,
-                               false,
-                               variable_long_name(v) + " at t_end",
-                               "",
-                               {},
-                               "",
-                               std::nullopt});
+      map.final_vars[i] = add({"final_" + dataset_variable(v.name), ElementType::float64, false,
+                               variable_long_name(v) + " at t_end", "", {}, "", std::nullopt});
     }
     if (wants(vars, "z") && wants(vars, "lambda")) {
-      map.final_H = add({"final_H",
-                         ElementType::float64,
-                         false,
-                         "H = lambda*K at t_end (conserved by the exact flow)",
-                         "",
-                         {},
-                         "",
+      map.final_H = add({"final_H", ElementType::float64, false,
+                         "H = lambda*K at t_end (conserved by the exact flow)", "", {}, "",
                          std::nullopt});
     }
     carry.z = wants(vars, "z") || map.final_H >= 0;
@@ -107,37 +90,21 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
       sample_times.push_back(static_cast<double>(k * every) * spec.h);
     for (std::size_t i = 0; i < nvars; ++i) {
       const auto& v = scene.variables[i];
-      map.traj_vars[i] = add({"traj_" + dataset_variable(v.name),
-                              ElementType::float64,
-                              true,
-                              variable_long_name(v),
-                              "",
-                              {},
-                              "",
-                              std::nullopt},
+      map.traj_vars[i] = add({"traj_" + dataset_variable(v.name), ElementType::float64, true,
+                              variable_long_name(v), "", {}, "", std::nullopt},
                              samples);
     }
-    map.traj_H = add(
-        {"traj_H", ElementType::float64, true, "H = lambda*K", "", {}, "", std::nullopt}, samples);
+    map.traj_H = add({"traj_H", ElementType::float64, true, "H = lambda*K", "", {}, "",
+                      std::nullopt},
+                     samples);
     carry.z = carry.mu = true;
   }
 
   if (measures.basin) {
-    map.basin = add({"basin",
-                     ElementType::int8,
-                     false,
-                     "basin of attraction",
-                     "",
-                     {-1, 0, 1},
-                     "left_well undecided right_well",
-                     std::nullopt});
-    map.settle_time = add({"settle_time",
-                           ElementType::float64,
-                           false,
-                           "time at which the energy trap decided the basin",
-                           "time",
-                           {},
-                           "",
+    map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
+                     "left_well undecided right_well", std::nullopt});
+    map.settle_time = add({"settle_time", ElementType::float64, false,
+                           "time at which the energy trap decided the basin", "time", {}, "",
                            std::nullopt});
   }
 
@@ -154,45 +121,25 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
           "every {} time units at h = {}: expected a window at least {} long",
           measures.sync->window_from, measures.sync->window_to, chunk * spec.h, spec.h,
           2 * chunk * spec.h));
-    map.sync_r = add({"sync_r",
-                      ElementType::float64,
-                      false,
-                      "phase-locking value |<exp(i(theta1-theta2))>| over the window",
-                      "",
-                      {},
-                      "",
+    map.sync_r = add({"sync_r", ElementType::float64, false,
+                      "phase-locking value |<exp(i(theta1-theta2))>| over the window", "", {}, "",
                       std::nullopt});
-    map.sync_phase_drift = add({"sync_phase_drift",
-                                ElementType::float64,
-                                false,
+    map.sync_phase_drift = add({"sync_phase_drift", ElementType::float64, false,
                                 "mean rate of the unwrapped phase difference over the window",
-                                "rad/time",
-                                {},
-                                "",
-                                std::nullopt});
-    map.sync_freq_ratio = add({"sync_freq_ratio",
-                               ElementType::float64,
-                               false,
+                                "rad/time", {}, "", std::nullopt});
+    map.sync_freq_ratio = add({"sync_freq_ratio", ElementType::float64, false,
                                "measured frequency ratio omega1/omega2 over the window (NaN "
                                "where oscillator 2 is at rest: sync_amplitude = 0)",
-                               "",
-                               {},
-                               "",
-                               std::nullopt});
-    map.sync_amplitude = add({"sync_amplitude",
-                              ElementType::float64,
-                              false,
-                              "smaller oscillator amplitude at the window's end",
-                              "",
-                              {},
-                              "",
+                               "", {}, "", std::nullopt});
+    map.sync_amplitude = add({"sync_amplitude", ElementType::float64, false,
+                              "smaller oscillator amplitude at the window's end", "", {}, "",
                               std::nullopt});
   }
 }
 
-std::vector<std::unique_ptr<RunPlan>> step_size_slices(
-    const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method,
-    std::vector<std::unique_ptr<RunSpec>>& specs) {
+std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, const SceneInfo& scene,
+                                                       const MethodInfo& method,
+                                                       std::vector<std::unique_ptr<RunSpec>>& specs) {
   std::vector<std::unique_ptr<RunPlan>> plans;
   if (spec.axes.empty() || !spec.axes.front().is_step_size) {
     plans.push_back(std::make_unique<RunPlan>(spec, scene, method));
@@ -226,12 +173,9 @@ void run_with(const RunPlan& plan, BlockResults& results) {
     else
       std::make_unique<BlockRunner<S, Method, carry, false>>(plan, results)->run();
   };
-  if (plan.carry.mu)
-    go.template operator()<Carry{true, true}>();
-  else if (plan.carry.z)
-    go.template operator()<Carry{true, false}>();
-  else
-    go.template operator()<Carry{false, false}>();
+  if (plan.carry.mu) go.template operator()<Carry{true, true}>();
+  else if (plan.carry.z) go.template operator()<Carry{true, false}>();
+  else go.template operator()<Carry{false, false}>();
 }
 
 template <class Method>

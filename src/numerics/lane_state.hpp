@@ -1,5 +1,6 @@
 // One lane's state as an integrator sees it (T = double; the tiled kernel, engine/lane_tile.hpp,
-// runs the same step over its lanes in a vectorised loop). The kernel keeps it in registers for a block of steps.
+// runs the same step over its lanes in a vectorised loop). The kernel keeps it in registers for
+// a block of steps.
 #pragma once
 
 #include "physics/partials.hpp"

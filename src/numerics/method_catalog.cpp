@@ -15,19 +15,15 @@ std::vector<std::string> split_parts() { return {"kinetic", "potential"}; }
 
 const std::vector<MethodInfo>& method_catalog() {
   static const std::vector<MethodInfo> catalog{
-      {"hybrid_leapfrog",
-       2,
+      {"hybrid_leapfrog", 2,
        "Sogo & Ohnishi's hybrid leap-frog (paper, sec. 3.1), explicit; (q, lambda p) conformally "
        "symplectic; H = lambda K drifts linearly",
-       {},
-       1},
-      {"symmetric_leapfrog",
-       2,
+       {}, 1},
+      {"symmetric_leapfrog", 2,
        "contact variational integrator (Vermeeren, Bravetti, Seri 2019) with trapezoidal z = "
        "generalized Stormer-Verlet on lambda K; symmetric; H bounded; implicit in z where K_z "
        "depends on z (2 Newton steps)",
-       {},
-       1},
+       {}, 1},
       {"contact_splitting2", 2,
        "Strang composition of the exact flows of p^2/2, V(q), Z(z) (Bravetti, Seri, Vermeeren, "
        "Zadra 2020); contact map; H bounded",
@@ -38,12 +34,10 @@ const std::vector<MethodInfo>& method_catalog() {
       {"contact_splitting6", 6,
        "Yoshida's 7-stage solution A over contact_splitting2; contact map; H bounded",
        split_parts(), 7},
-      {"rk4",
-       4,
+      {"rk4", 4,
        "classical Runge-Kutta on the full contact vector field; any scene; not geometric: H "
        "drifts slowly",
-       {},
-       4},
+       {}, 4},
   };
   return catalog;
 }
@@ -58,8 +52,7 @@ std::vector<std::string> missing_split_parts(const MethodInfo& method,
 
 const MethodInfo* find_method(std::string_view name) {
   const auto& all = method_catalog();
-  auto it =
-      std::find_if(all.begin(), all.end(), [&](const MethodInfo& m) { return m.name == name; });
+  auto it = std::find_if(all.begin(), all.end(), [&](const MethodInfo& m) { return m.name == name; });
   return it == all.end() ? nullptr : &*it;
 }
 

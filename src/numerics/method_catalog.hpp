@@ -10,7 +10,7 @@ namespace cs {
 struct MethodInfo {
   std::string name;
   int order;
-  std::string properties;                      // one line for `contactsweep methods`
+  std::string properties;        // one line for `contactsweep methods`
   std::vector<std::string> needs_split_parts;  // empty: works on any scene
   int force_evaluations_per_step;
 };
