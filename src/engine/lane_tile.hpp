@@ -33,7 +33,7 @@ struct LaneTile {
   alignas(64) double broken[W];
   // Per-lane parameters and method coefficients (used when not uniform), stored field by field:
   // the lane loop then reads each field with contiguous loads and vectorises. Stored as arrays
-  // of structs (strided loads) they made per-lane runs (a grid axis over g, gamma, a or h) about
+  // of structs (strided loads) they made per-lane runs (a grid axis over a scene parameter: g, gamma, a, omega) about
   // 4x slower per lane-step than uniform ones.
   static constexpr int kParamFields = sizeof(Params) / sizeof(double);
   static constexpr int kCoefFields = sizeof(Coef) / sizeof(double);
