@@ -5,17 +5,32 @@
 
 #include <filesystem>
 
+#include "io/log.hpp"
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
+#include "parallel/agreement.hpp"
 #include "parallel/sweep.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs {
 
+// Rank 0 alone reads the spec (a path such as /dev/stdin, or a file on a node-local disk, may
+// be readable there only) and every rank parses the same text; the parse also checks the grid
+// against each node's memory, so its outcome is agreed.
+RunSpec agreed_spec(const RunArguments& args, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string text = agreed(comm, [&] { return rank == 0 ? read_spec_file(args.spec_path) : ""; });
+  broadcast(comm, text);
+  return agreed(comm, [&] { return parse_run_spec(text, args.overrides, args.spec_path); });
+}
+
 int run_command(const RunArguments& args, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  RunSpec spec = load_run_spec(args.spec_path, args.overrides);
+  if (args.output_given && args.output.empty())
+    throw InputError("-o: the output path is empty; name a file, e.g. -o basins.h5");
+  RunSpec spec = agreed_spec(args, comm);
   SweepOptions options;
   options.output = args.output.empty()
                        ? std::filesystem::path(args.spec_path).stem().string() + ".h5"
@@ -25,20 +40,22 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
   options.quiet = args.quiet;
   options.command_line = args.command_line;
   SweepSummary s = run_sweep(spec, options, comm);
+  if (rank != 0 || args.quiet) return 0;
   if (s.already_complete) {
-    if (rank == 0 && !args.quiet)
-      fmt::print(stderr, "contactsweep: {} is already complete for this spec; nothing to do\n",
-                 options.output);
+    log("contactsweep: {} is already complete for this spec; nothing to do", options.output);
     return 0;
   }
-  if (rank == 0 && !args.quiet) {
-    double rate = static_cast<double>(s.points) * static_cast<double>(spec.steps) / s.seconds;
-    fmt::print(stderr,
-               "contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s); "
-               "flagged: {} diverged, {} integrator breakdown\n",
-               options.output, s.points, spec.steps, s.seconds, rate, s.flagged_diverged,
-               s.flagged_breakdown);
-  }
+  // The rate counts the points integrated by this invocation, not blocks a resume loaded.
+  const double rate = static_cast<double>(s.computed_points) * static_cast<double>(spec.steps) /
+                      s.compute_seconds;
+  const std::string resumed =
+      s.computed_points < s.points
+          ? fmt::format(", {} of them loaded from the journal", s.points - s.computed_points)
+          : "";
+  log("contactsweep: wrote {} ({} points{} x {} steps; {} points integrated in {:.3f} s, {:.3g} "
+      "traj-steps/s; total {:.3f} s); flagged: {} diverged, {} integrator breakdown",
+      options.output, s.points, resumed, spec.steps, s.computed_points, s.compute_seconds,
+      s.computed_points > 0 ? rate : 0.0, s.seconds, s.flagged_diverged, s.flagged_breakdown);
   return 0;
 }
 

@@ -12,6 +12,7 @@ namespace cs {
 struct RunArguments {
   std::string spec_path;
   std::string output;  // empty: the spec's name with .h5, in the current directory
+  bool output_given = false;  // -o was passed (an empty -o '' is an error, not the default)
   std::vector<std::string> overrides;
   bool resume = false;
   bool force = false;

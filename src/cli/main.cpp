@@ -4,11 +4,16 @@
 #include <fmt/core.h>
 #include <mpi.h>
 
+#include <csignal>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
 #include "cli/commands.hpp"
+#include "io/log.hpp"
+#include "io/output_file.hpp"
 #include "io/run_spec.hpp"
+#include "parallel/agreement.hpp"
 #include "version.hpp"
 
 namespace {
@@ -28,8 +33,9 @@ int main_with_mpi(int argc, char** argv, int rank) {
   run.command_line = joined(argc, argv);
   auto* run_cmd = app.add_subcommand("run", "integrate the grid of a spec file into an HDF5 file");
   run_cmd->add_option("spec", run.spec_path, "spec file (TOML)")->required();
-  run_cmd->add_option("-o,--output", run.output,
-                      "output file (default: the spec's name with .h5, in the current directory)");
+  auto* output = run_cmd->add_option(
+      "-o,--output", run.output,
+      "output file (default: the spec's name with .h5, in the current directory)");
   run_cmd->add_option("--set", run.overrides,
                       "override one spec value by its dotted key, e.g. integrator.h=0.005")
       ->type_name("KEY=VALUE")
@@ -49,6 +55,7 @@ int main_with_mpi(int argc, char** argv, int rank) {
     int code = app.exit(e);  // prints help, version or the error
     return code == 0 ? 0 : 2;
   }
+  run.output_given = output->count() > 0;
   if (scenes->parsed()) {
     if (rank == 0) cs::print_scenes();
     return 0;
@@ -63,20 +70,38 @@ int main_with_mpi(int argc, char** argv, int rank) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
+  // A closed stderr pipe must not kill a run that is writing its map (io/log.hpp).
+  std::signal(SIGPIPE, SIG_IGN);
+  // Funneled: OpenMP threads compute while the main thread alone talks MPI (sweep.cpp polls
+  // whether another rank failed between blocks).
+  // Open MPI's default shared-file-pointer component for MPI-IO (sm) keeps a named semaphore per
+  // open file in /dev/shm: a process killed while holding it leaves it taken, and every later
+  // open of the same file name hangs. HDF5 never uses shared file pointers; a user's own
+  // setting of OMPI_MCA_sharedfp is kept.
+  ::setenv("OMPI_MCA_sharedfp", "^sm", 0);
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   int status = 0;
   try {
     status = main_with_mpi(argc, argv, rank);
-  } catch (const cs::InputError& e) {
-    if (rank == 0) fmt::print(stderr, "contactsweep: error: {}\n", e.what());
+  } catch (const cs::InputError& e) {  // every rank throws it together (parallel/agreement.hpp)
+    if (rank == 0) cs::log("contactsweep: error: {}", e.what());
     status = 2;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "contactsweep: run-time failure on rank {}: {}\n", rank, e.what());
+  } catch (const cs::CollectiveError& e) {
+    if (rank == 0) cs::log("contactsweep: run-time failure: {}", e.what());
+    status = 1;
+  } catch (const std::exception& e) {  // this rank alone: the others may wait for it forever
+    cs::log("contactsweep: run-time failure on rank {}: {}", rank, e.what());
     if (size > 1) MPI_Abort(MPI_COMM_WORLD, 1);
     status = 1;
+  }
+  if (cs::hdf5_files_left_open()) {
+    // Every rank agreed on the failure that left it open (io/output_file.hpp); the journal
+    // holds the results and the partial file is gone. Finalizing would crash inside HDF5.
+    std::_Exit(status);
   }
   MPI_Finalize();
   return status;

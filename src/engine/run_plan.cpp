@@ -63,8 +63,12 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     return static_cast<int>(columns.size() - 1);
   };
 
-  map.status = add({"status", ElementType::uint8, false, "integration status", "", {0, 1, 2},
-                    "ok diverged integrator_breakdown", std::nullopt});
+  // A cell no rank wrote must never read as "ok": sweep.cpp checks that every point was
+  // computed before it writes, and the file's fill value says not_computed besides.
+  map.status = add({"status", ElementType::uint8, false, "integration status", "",
+                    {0, 1, 2, kStatusNotComputed},
+                    "ok diverged integrator_breakdown not_computed", std::nullopt,
+                    kStatusNotComputed});
 
   if (measures.final_state) {
     const auto& vars = measures.final_state->vars;

@@ -19,6 +19,8 @@
 namespace cs {
 
 enum class LaneStatus : std::uint8_t { ok = 0, diverged = 1, breakdown = 2 };
+// The `status` of a cell no rank wrote: the file's fill value, never produced by a lane.
+inline constexpr int kStatusNotComputed = 255;
 
 // Where each measure's values go: a column index, or −1 when not requested.
 struct ColumnMap {

@@ -10,7 +10,12 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -46,6 +51,7 @@ class Handle {
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
   // Closes now and reports whether HDF5 accepted it (the destructor cannot report).
+  // Never retried: HDF5 may have freed part of an object whose close failed.
   bool close() {
     if (!valid()) return true;
     const herr_t status = Close(std::exchange(id_, H5I_INVALID_HID));
@@ -87,11 +93,8 @@ std::string hdf5_error_detail() {
   throw std::runtime_error(message);
 }
 
-// HDF5 identifiers and herr_t are both negative on failure.
-template <typename T>
-T check(T result, const std::string& path, const std::string& what) {
-  if (result < 0) fail(path, what, hdf5_error_detail());
-  return result;
+std::string fmt_bytes(double bytes) {
+  return std::to_string(static_cast<long long>(bytes / (1024.0 * 1024.0))) + " MiB";
 }
 
 // Every rank learns whether all ranks succeeded; used before collective calls so that a local
@@ -101,6 +104,39 @@ bool all_ok(bool local_ok, MPI_Comm comm) {
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, comm);
   return ok != 0;
 }
+
+// Checks the result of an HDF5 call on every rank together. Parallel HDF5 can fail on some
+// ranks only (a full disk is met by the rank that flushes metadata or writes a piece of a
+// dataset); a rank that threw alone would leave the others inside HDF5's next collective call,
+// hanging the job. So each check is agreed, and every rank throws at the same call. The cost,
+// one small all-reduce per call, is a few hundred all-reduces per file.
+class Checker {
+ public:
+  Checker() = default;
+  Checker(MPI_Comm comm, std::string path) : comm_(comm), path_(std::move(path)) {}
+  // HDF5 identifiers and herr_t are both negative on failure.
+  template <typename T>
+  T operator()(T result, const std::string& what) const {
+    const bool ok = result >= 0;
+    const std::string detail = ok ? std::string() : hdf5_error_detail();
+    if (!all_ok(ok, comm_)) fail(path_, what, ok ? "failed on another rank" : detail);
+    return result;
+  }
+  // For HDF5 calls that report through a bool (Handle::close).
+  void require(bool ok, const std::string& what) const { (*this)(ok ? 0 : -1, what); }
+  // Agrees on the outcome of steps that differ between ranks (selections): `local_problem` is
+  // empty where this rank's steps succeeded.
+  void agree(const std::string& local_problem) const {
+    if (!all_ok(local_problem.empty(), comm_))
+      throw std::runtime_error(local_problem.empty() ? path_ + ": failed on another rank"
+                                                     : local_problem);
+  }
+
+ private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::string path_;
+};
+
 
 // Rank 0 runs `action` (a file-system step); its error message, if any, reaches every rank.
 template <typename Action>
@@ -121,6 +157,66 @@ void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& 
   error.resize(static_cast<std::size_t>(length));
   MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
   if (length > 0) fail(path, what, error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Putting the finished file in place, durably: its data reaches the disk before its name does,
+// and the name before the caller removes the journal (a node crash in between must not leave a
+// truncated file and no journal).
+
+void sync_path(const std::string& path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
+  const int status = ::fsync(fd);
+  const int error = errno;
+  ::close(fd);
+  // Some file systems cannot sync a directory (EINVAL): the rename is then as durable as it gets.
+  if (status != 0 && !(error == EINVAL && (flags & O_DIRECTORY)))
+    throw std::runtime_error("cannot sync " + path + ": " + std::strerror(error));
+}
+
+// Without `replace`, a file that appeared at `final_path` while the run computed is never
+// replaced: link() fails if the name exists, where rename() would silently overwrite it.
+void place_durably(const std::string& partial_path, const std::string& final_path, bool replace) {
+  sync_path(partial_path, O_RDONLY);
+  if (replace) {
+    std::filesystem::rename(partial_path, final_path);
+  } else if (::link(partial_path.c_str(), final_path.c_str()) == 0) {
+    std::filesystem::remove(partial_path);
+  } else if (errno == EEXIST) {
+    throw std::runtime_error(
+        "'" + final_path + "' appeared while this run was computing (made by another program); "
+        "it was not replaced. Every finished block is kept in the journal: move that file away "
+        "and run again with --resume");
+  } else if (errno == EPERM || errno == EOPNOTSUPP || errno == EXDEV || errno == EMLINK) {
+    // A file system without hard links: check, then rename (a window of a few microseconds).
+    if (std::filesystem::exists(final_path))
+      throw std::runtime_error("'" + final_path + "' appeared while this run was computing; it "
+                               "was not replaced: move it away and run again with --resume");
+    std::filesystem::rename(partial_path, final_path);
+  } else {
+    throw std::runtime_error("cannot link " + partial_path + " to " + final_path + ": " +
+                             std::strerror(errno));
+  }
+  const auto directory = std::filesystem::absolute(final_path).parent_path();
+  sync_path(directory.string(), O_RDONLY | O_DIRECTORY);
+}
+
+// Rank 0: proves the disk (and the user's quota, which free-space figures do not show) has room
+// for the whole file before HDF5 writes a byte of it. HDF5 does not recover from a full disk in
+// the middle of a file, so the space is claimed with fallocate and released right before HDF5
+// creates the file. Another program may take it in between: that rare case still fails cleanly
+// (see hdf5_files_left_open).
+void check_room_for(const std::string& path, double bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+  const int error = ::posix_fallocate(fd, 0, static_cast<off_t>(bytes));
+  ::close(fd);
+  ::unlink(path.c_str());
+  if (error == ENOSPC || error == EDQUOT)
+    throw std::runtime_error(fmt_bytes(bytes) + " for the output do not fit on its disk: " +
+                             std::strerror(error));
+  // EOPNOTSUPP, EINVAL: a file system that cannot reserve; the earlier free-space check stands.
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -186,65 +282,65 @@ TypedValue typed(double value, ElementType type) {
 // as bytes.
 
 void write_attribute(hid_t object, const std::string& name, hid_t file_t, hid_t mem_t, hid_t space,
-                     const void* value, const std::string& path) {
+                     const void* value, const Checker& check) {
   const std::string what = "cannot write attribute '" + name + "'";
   AttributeHandle attribute(
-      check(H5Acreate2(object, name.c_str(), file_t, space, H5P_DEFAULT, H5P_DEFAULT), path, what));
-  check(H5Awrite(attribute.get(), mem_t, value), path, what);
-  if (!attribute.close()) fail(path, what, hdf5_error_detail());
+      check(H5Acreate2(object, name.c_str(), file_t, space, H5P_DEFAULT, H5P_DEFAULT), what));
+  check(H5Awrite(attribute.get(), mem_t, value), what);
+  check.require(attribute.close(), what);
 }
 
 void write_text_attribute(hid_t object, const std::string& name, const std::string& value,
-                          const std::string& path) {
+                          const Checker& check) {
   const std::string what = "cannot write attribute '" + name + "'";
-  TypeHandle type(check(H5Tcopy(H5T_C_S1), path, what));
-  check(H5Tset_size(type.get(), H5T_VARIABLE), path, what);
-  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), path, what);
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, what));
+  TypeHandle type(check(H5Tcopy(H5T_C_S1), what));
+  check(H5Tset_size(type.get(), H5T_VARIABLE), what);
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), what));
   const char* text = value.c_str();
-  write_attribute(object, name, type.get(), type.get(), space.get(), &text, path);
+  write_attribute(object, name, type.get(), type.get(), space.get(), &text, check);
 }
 
 void write_number_attribute(hid_t object, const std::string& name, double value,
-                            const std::string& path) {
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, "cannot write attribute '" + name + "'"));
-  write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, space.get(), &value, path);
+                            const Checker& check) {
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), "cannot write attribute '" + name + "'"));
+  write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, space.get(), &value, check);
 }
 
 // Scalar of the dataset's own type: CF wants _FillValue to match the variable exactly.
 void write_typed_attribute(hid_t object, const std::string& name, double value, ElementType type,
-                           const std::string& path) {
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), path, "cannot write attribute '" + name + "'"));
+                           const Checker& check) {
+  SpaceHandle space(check(H5Screate(H5S_SCALAR), "cannot write attribute '" + name + "'"));
   const TypedValue v = typed(value, type);
   write_attribute(object, name, file_type(type), memory_type(type), space.get(), v.pointer(type),
-                  path);
+                  check);
 }
 
 // 1-D array of the dataset's own type (CF: flag_values has the variable's type).
 template <typename T>
 void write_flag_values_as(hid_t object, const std::vector<int>& values, ElementType type,
-                          const std::string& path) {
+                          const Checker& check) {
   const std::vector<T> converted(values.begin(), values.end());  // validate() checked the range
   const hsize_t n = converted.size();
-  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), path, "cannot write 'flag_values'"));
+  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), "cannot write 'flag_values'"));
   write_attribute(object, "flag_values", file_type(type), memory_type(type), space.get(),
-                  converted.data(), path);
+                  converted.data(), check);
 }
 
 void write_flag_values(hid_t object, const std::vector<int>& values, ElementType type,
-                       const std::string& path) {
+                       const Checker& check) {
   switch (type) {
-    case ElementType::int8: return write_flag_values_as<std::int8_t>(object, values, type, path);
-    case ElementType::uint8: return write_flag_values_as<std::uint8_t>(object, values, type, path);
+    case ElementType::int8: return write_flag_values_as<std::int8_t>(object, values, type, check);
+    case ElementType::uint8: return write_flag_values_as<std::uint8_t>(object, values, type, check);
     case ElementType::float64: break;
   }
-  write_flag_values_as<double>(object, values, type, path);
+  write_flag_values_as<double>(object, values, type, check);
 }
 
 void write_descriptive_attributes(hid_t object, const std::string& long_name,
-                                  const std::string& units, const std::string& path) {
-  if (!long_name.empty()) write_text_attribute(object, "long_name", long_name, path);
-  if (!units.empty()) write_text_attribute(object, "units", units, path);
+                                  const std::string& units, const Checker& check) {
+  if (!long_name.empty()) write_text_attribute(object, "long_name", long_name, check);
+  if (!units.empty()) write_text_attribute(object, "units", units, check);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -355,10 +451,25 @@ void select_runs(hid_t file_space, const std::vector<PointRange>& runs,
       box.start.push_back(0);
       box.count.push_back(time_length);
     }
-    check(H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(), nullptr),
-          path, what);
+    if (H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(), nullptr) < 0)
+      fail(path, what, hdf5_error_detail());  // local: the caller agrees on the outcome
     op = H5S_SELECT_OR;
   }
+}
+
+// What the finished file takes on disk: every dataset and coordinate, plus room for metadata.
+double expected_bytes(const FileLayout& layout) {
+  double points = 1.0, coordinates = 0.0;
+  for (const CoordinateSpec& axis : layout.axes) {
+    points *= static_cast<double>(axis.values.size());
+    coordinates += static_cast<double>(axis.values.size());
+  }
+  const double times = layout.time ? static_cast<double>(layout.time->values.size()) : 1.0;
+  if (layout.time) coordinates += times;
+  double bytes = coordinates * sizeof(double) + 65536.0;
+  for (const DatasetSpec& d : layout.datasets)
+    bytes += points * (d.has_time_dim ? times : 1.0) * static_cast<double>(element_size(d.type));
+  return bytes;
 }
 
 }  // namespace
@@ -382,6 +493,7 @@ struct OutputFile::Impl {
   std::vector<DatasetHandle> coordinates;  // axes..., then t
   std::vector<Dataset> datasets;
   PropertyHandle collective_transfer;
+  Checker checker;  // every HDF5 result, agreed across ranks
   bool committed = false;
 
   [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
@@ -401,6 +513,7 @@ struct OutputFile::Impl {
   std::string request_problem(const std::string& name, const std::vector<PointRange>& ranges) const;
   void create(const FileLayout& layout);
   void write(const Dataset& target, const std::vector<PointRange>& ranges, const void* data) const;
+  bool flush();
   bool close_all();
   void abandon() noexcept;
   ~Impl();
@@ -429,7 +542,8 @@ void OutputFile::Impl::validate(const FileLayout& layout) const {
                   "' does not fit its type");
       }
     }
-    if (spec.fill_value && !representable(*spec.fill_value, spec.type)) {
+    if ((spec.fill_value && !representable(*spec.fill_value, spec.type)) ||
+        (spec.unwritten_value && !representable(*spec.unwritten_value, spec.type))) {
       fail_here("fill value of '" + spec.name + "' does not fit its type");
     }
   }
@@ -445,40 +559,37 @@ PropertyHandle OutputFile::Impl::dataset_creation_properties(const std::vector<h
                                                              ElementType type,
                                                              std::optional<double> fill) const {
   const std::string what = "cannot set up dataset creation properties";
-  PropertyHandle dcpl(check(H5Pcreate(H5P_DATASET_CREATE), partial_path, what));
+  PropertyHandle dcpl(checker(H5Pcreate(H5P_DATASET_CREATE), what));
   // No timestamps in object headers: two identical runs give byte-identical files.
-  check(H5Pset_obj_track_times(dcpl.get(), false), partial_path, what);
+  checker(H5Pset_obj_track_times(dcpl.get(), false), what);
   const hsize_t elements =
       std::accumulate(shape.begin(), shape.end(), hsize_t{1}, std::multiplies<>());
   // Scalars cannot be chunked, and chunk dims must not exceed fixed zero-length dims.
   if (!shape.empty() && elements > 0) {
     const std::vector<hsize_t> chunk = chunk_shape(shape, element_size(type));
-    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), partial_path,
-          what);
+    checker(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), what);
   }
   if (fill) {
     const TypedValue v = typed(*fill, type);
-    check(H5Pset_fill_value(dcpl.get(), memory_type(type), v.pointer(type)), partial_path, what);
+    checker(H5Pset_fill_value(dcpl.get(), memory_type(type), v.pointer(type)), what);
   }
   return dcpl;
 }
 
 void OutputFile::Impl::create_file(const FileLayout& layout) {
   const std::string what = "cannot create the file";
-  PropertyHandle fapl(check(H5Pcreate(H5P_FILE_ACCESS), partial_path, what));
-  check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), partial_path, what);
-  PropertyHandle fcpl(check(H5Pcreate(H5P_FILE_CREATE), partial_path, what));
-  check(H5Pset_obj_track_times(fcpl.get(), false), partial_path, what);  // root group
+  PropertyHandle fapl(checker(H5Pcreate(H5P_FILE_ACCESS), what));
+  checker(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), what);
+  PropertyHandle fcpl(checker(H5Pcreate(H5P_FILE_CREATE), what));
+  checker(H5Pset_obj_track_times(fcpl.get(), false), what);  // root group
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
-  check(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
-        partial_path, what);
-  file = FileHandle(check(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
-                          partial_path, what));
+  checker(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), what);
+  file = FileHandle(checker(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), what));
   for (const auto& [name, value] : layout.text_attributes) {
-    write_text_attribute(file.get(), name, value, partial_path);
+    write_text_attribute(file.get(), name, value, checker);
   }
   for (const auto& [name, value] : layout.number_attributes) {
-    write_number_attribute(file.get(), name, value, partial_path);
+    write_number_attribute(file.get(), name, value, checker);
   }
 }
 
@@ -487,26 +598,25 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
 DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordinate, int dim_id) {
   const std::string what = "cannot create coordinate '" + coordinate.name + "'";
   const hsize_t n = coordinate.values.size();
-  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), partial_path, what));
+  SpaceHandle space(checker(H5Screate_simple(1, &n, nullptr), what));
   PropertyHandle dcpl = dataset_creation_properties({n}, ElementType::float64, std::nullopt);
-  DatasetHandle dataset(check(H5Dcreate2(file.get(), coordinate.name.c_str(), H5T_IEEE_F64LE,
-                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-                              partial_path, what));
+  DatasetHandle dataset(checker(H5Dcreate2(file.get(), coordinate.name.c_str(), H5T_IEEE_F64LE,
+                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
   // Every rank holds the same values; rank 0 alone writes them, the others take part empty.
-  SpaceHandle file_space(check(H5Dget_space(dataset.get()), partial_path, what));
-  SpaceHandle mem_space(check(H5Screate_simple(1, &n, nullptr), partial_path, what));
-  if (rank != 0 || n == 0) {
-    check(H5Sselect_none(file_space.get()), partial_path, what);
-    check(H5Sselect_none(mem_space.get()), partial_path, what);
-  }
+  SpaceHandle file_space(checker(H5Dget_space(dataset.get()), what));
+  SpaceHandle mem_space(checker(H5Screate_simple(1, &n, nullptr), what));
+  // Ranks differ here, so the selection is checked locally and agreed once.
+  const bool selected = (rank == 0 && n > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
+                                                 H5Sselect_none(mem_space.get()) >= 0);
+  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
   write_selected(dataset.get(), H5T_NATIVE_DOUBLE, file_space.get(), mem_space.get(),
                  coordinate.values.data(), coordinate.name);
-  check(H5DSset_scale(dataset.get(), coordinate.name.c_str()), partial_path, what);
+  checker(H5DSset_scale(dataset.get(), coordinate.name.c_str()), what);
   // netCDF-C numbers dimensions by this (h5netcdf hides it); harmless for other readers.
-  SpaceHandle scalar(check(H5Screate(H5S_SCALAR), partial_path, what));
+  SpaceHandle scalar(checker(H5Screate(H5S_SCALAR), what));
   write_attribute(dataset.get(), "_Netcdf4Dimid", H5T_STD_I32LE, H5T_NATIVE_INT, scalar.get(),
-                  &dim_id, partial_path);
-  write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units, partial_path);
+                  &dim_id, checker);
+  write_descriptive_attributes(dataset.get(), coordinate.long_name, coordinate.units, checker);
   return dataset;
 }
 
@@ -514,33 +624,29 @@ void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
   const std::string what = "cannot create dataset '" + spec.name + "'";
   const std::vector<hsize_t> shape = shape_of(spec);
   SpaceHandle space(
-      check(shape.empty() ? H5Screate(H5S_SCALAR)
-                          : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr),
-            partial_path, what));
-  std::optional<double> fill = spec.fill_value;
+      checker(shape.empty() ? H5Screate(H5S_SCALAR)
+                          : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
+  std::optional<double> fill = spec.fill_value ? spec.fill_value : spec.unwritten_value;
   if (!fill && spec.type == ElementType::float64) fill = std::numeric_limits<double>::quiet_NaN();
   PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, fill);
-  DatasetHandle dataset(check(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
-                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-                              partial_path, what));
+  DatasetHandle dataset(checker(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
+                                         space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
   for (std::size_t d = 0; d < grid_dims.size(); ++d) {
-    check(H5DSattach_scale(dataset.get(), coordinates[d].get(), static_cast<unsigned>(d)),
-          partial_path, what + ": cannot attach its dimension scale");
+    checker(H5DSattach_scale(dataset.get(), coordinates[d].get(), static_cast<unsigned>(d)), what + ": cannot attach its dimension scale");
   }
   if (spec.has_time_dim) {
-    check(H5DSattach_scale(dataset.get(), coordinates.back().get(),
-                           static_cast<unsigned>(grid_dims.size())),
-          partial_path, what + ": cannot attach the time scale");
+    checker(H5DSattach_scale(dataset.get(), coordinates.back().get(),
+                           static_cast<unsigned>(grid_dims.size())), what + ": cannot attach the time scale");
   }
-  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, partial_path);
+  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, checker);
   if (!spec.flag_values.empty()) {
-    write_flag_values(dataset.get(), spec.flag_values, spec.type, partial_path);
+    write_flag_values(dataset.get(), spec.flag_values, spec.type, checker);
   }
   if (!spec.flag_meanings.empty()) {
-    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, partial_path);
+    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, checker);
   }
   if (spec.fill_value) {
-    write_typed_attribute(dataset.get(), "_FillValue", *spec.fill_value, spec.type, partial_path);
+    write_typed_attribute(dataset.get(), "_FillValue", *spec.fill_value, spec.type, checker);
   }
   datasets.push_back(Dataset{spec, std::move(dataset)});
 }
@@ -548,8 +654,7 @@ void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
 void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
                                       hid_t mem_space, const void* data,
                                       const std::string& name) const {
-  check(H5Dwrite(dataset, mem_type, mem_space, file_space, collective_transfer.get(), data),
-        partial_path, "cannot write dataset '" + name + "'");
+  checker(H5Dwrite(dataset, mem_type, mem_space, file_space, collective_transfer.get(), data), "cannot write dataset '" + name + "'");
 }
 
 const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name) const {
@@ -569,13 +674,28 @@ bool OutputFile::Impl::close_all() {
   return ok;
 }
 
+// Collective: HDF5 writes its cached metadata. Flushing before closing keeps a failure
+// (a full disk) at a point where every rank still has the file open and can try again.
+bool OutputFile::Impl::flush() {
+  return !file.valid() || all_ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0, comm);
+}
+
 // Collective, never throws: the path of every failure (constructor, commit, a destructor called
 // while an exception unwinds) ends here, so nothing is left under either name.
 void OutputFile::Impl::abandon() noexcept {
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (finalized) return;  // nothing collective is possible any more
+  if (!flush()) {
+    // The disk is full. Free what the file holds and flush again, so that HDF5 can close it
+    // now; a file it failed to close stays open inside HDF5 (main.cpp then skips MPI_Finalize,
+    // where HDF5 would try again and crash).
+    if (rank == 0) ::truncate(partial_path.c_str(), 0);
+    MPI_Barrier(comm);
+    flush();
+  }
   close_all();
+  hdf5_error_detail();  // clears the error stack
   if (rank == 0) {
     std::error_code ignored;
     std::filesystem::remove(partial_path, ignored);
@@ -617,11 +737,12 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   // from nothing rather than let H5F_ACC_TRUNC trip over it.
   on_rank0_agreed(comm, partial_path, "cannot remove the stale temporary file",
                   [&] { std::filesystem::remove(partial_path); });
+  on_rank0_agreed(comm, partial_path, "not enough room for the output",
+                  [&] { check_room_for(partial_path, expected_bytes(layout)); });
 
   collective_transfer =
-      PropertyHandle(check(H5Pcreate(H5P_DATASET_XFER), partial_path, "cannot set up writes"));
-  check(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), partial_path,
-        "cannot set up collective writes");
+      PropertyHandle(checker(H5Pcreate(H5P_DATASET_XFER), "cannot set up writes"));
+  checker(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), "cannot set up collective writes");
 
   create_file(layout);
   int dim_id = 0;
@@ -641,19 +762,31 @@ void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange
   const hsize_t per_point = target.spec.has_time_dim ? time_length : 1;
   const hsize_t elements = static_cast<hsize_t>(selected_points) * per_point;
 
-  SpaceHandle file_space(check(H5Dget_space(target.handle.get()), partial_path, what));
-  const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
-  SpaceHandle mem_space(check(H5Screate_simple(1, &mem_dims, nullptr), partial_path, what));
-  if (elements == 0) {
-    // Nothing to write here, but H5Dwrite is collective: take part with empty selections.
-    check(H5Sselect_none(mem_space.get()), partial_path, what);
-    check(H5Sselect_none(file_space.get()), partial_path, what);
-  } else if (grid_dims.empty()) {
-    check(H5Sselect_all(file_space.get()), partial_path, what);  // the single point
-  } else {
-    select_runs(file_space.get(), runs, grid_dims, target.spec.has_time_dim, time_length,
-                partial_path, what);
+  // Each rank selects its own points, in its own number of calls: checked here, agreed once.
+  SpaceHandle file_space, mem_space;
+  std::string problem;
+  try {
+    auto local = [&](auto result) {
+      if (result < 0) fail(partial_path, what, hdf5_error_detail());
+      return result;
+    };
+    file_space = SpaceHandle(local(H5Dget_space(target.handle.get())));
+    const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
+    mem_space = SpaceHandle(local(H5Screate_simple(1, &mem_dims, nullptr)));
+    if (elements == 0) {
+      // Nothing to write here, but H5Dwrite is collective: take part with empty selections.
+      local(H5Sselect_none(mem_space.get()));
+      local(H5Sselect_none(file_space.get()));
+    } else if (grid_dims.empty()) {
+      local(H5Sselect_all(file_space.get()));  // the single point
+    } else {
+      select_runs(file_space.get(), runs, grid_dims, target.spec.has_time_dim, time_length,
+                  partial_path, what);
+    }
+  } catch (const std::exception& e) {
+    problem = e.what();
   }
+  checker.agree(problem);
   write_selected(target.handle.get(), memory_type(target.spec.type), file_space.get(),
                  mem_space.get(), data, target.spec.name);
 }
@@ -668,6 +801,7 @@ OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, 
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   MPI_Comm_dup(comm, &impl_->comm);
   MPI_Comm_rank(impl_->comm, &impl_->rank);
+  impl_->checker = Checker(impl_->comm, impl_->partial_path);
   try {
     impl_->create(layout);
   } catch (...) {
@@ -692,16 +826,19 @@ void OutputFile::write(const std::string& dataset, const std::vector<PointRange>
   impl_->write(*impl_->find(dataset), ranges, data);
 }
 
-void OutputFile::commit() {
+void OutputFile::commit(bool replace_existing) {
   Impl& s = *impl_;
   if (s.committed) fail(s.final_path, "commit called twice");
-  if (!all_ok(s.close_all(), s.comm)) {
-    fail(s.partial_path, "cannot close the file", hdf5_error_detail());
-  }
+  s.checker.require(s.flush(), "cannot write the file's metadata");
+  s.checker.require(s.close_all(), "cannot close the file");
   // H5Fclose is collective, so every rank's data is in the file before the name appears.
-  on_rank0_agreed(s.comm, s.final_path, "cannot rename the finished file into place",
-                  [&] { std::filesystem::rename(s.partial_path, s.final_path); });
+  on_rank0_agreed(s.comm, s.final_path, "cannot put the finished file in place",
+                  [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
   s.committed = true;
+}
+
+bool hdf5_files_left_open() {
+  return H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE) > 0;
 }
 
 }  // namespace cs

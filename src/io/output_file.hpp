@@ -4,8 +4,10 @@
 // an optional time coordinate `t`; measure datasets with dims (axes..., [t]); CF-style attributes.
 // The file is readable as netCDF-4 by xarray (engine="h5netcdf").
 //
-// Crash safety: the file is built under a temporary name next to the final one and renamed into
-// place by commit(); a run that fails or is killed never leaves a file under the final name.
+// Crash safety: the file is built under a temporary name next to the final one and put in place
+// by commit(); a run that fails or is killed never leaves a file under the final name. Every
+// failure, also one that HDF5 reports on some ranks only (a full disk), is thrown on every rank
+// at the same call, so no rank is left waiting in a collective one.
 #pragma once
 
 #include <mpi.h>
@@ -30,6 +32,10 @@ struct DatasetSpec {
   std::vector<int> flag_values;            // for labels (status, basin); omitted when empty
   std::string flag_meanings;               // space-separated, CF style
   std::optional<double> fill_value;        // _FillValue, when cells can be missing
+  // Value of cells never written, as HDF5's fill value but without a _FillValue attribute, so
+  // that readers keep an integer type (xarray turns masked integers into floats). For labels
+  // whose type has no NaN: `status` fills with not_computed, never with 0 = ok.
+  std::optional<double> unwritten_value;
 };
 
 struct CoordinateSpec {
@@ -68,12 +74,19 @@ class OutputFile {
   // element type.
   void write(const std::string& dataset, const std::vector<PointRange>& ranges, const void* data);
 
-  // Collective: flush, close, and atomically rename to the final path.
-  void commit();
+  // Collective: flush, close, sync the file, put it under the final path and sync the directory.
+  // Without `replace_existing`, a file already at the final path is never replaced: the commit
+  // fails instead (the caller's journal keeps the results).
+  void commit(bool replace_existing = false);
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Whether HDF5 still holds a file open: after a close that failed (a full disk met by HDF5's
+// metadata flush, which it cannot recover from). HDF5 flushes such a file again inside
+// MPI_Finalize and crashes there, so main() then ends the process without finalizing.
+bool hdf5_files_left_open();
 
 }  // namespace cs

@@ -548,12 +548,11 @@ class SpecReader {
     double bytes = static_cast<double>(points);
     for (const AxisDraft& draft : drafts) bytes += static_cast<double>(draft.size());
     bytes *= sizeof(double);
-    if (const double budget = memory_budget_bytes(); bytes > 0.8 * budget)
+    if (const MemoryBudget budget = memory_budget(); bytes > 0.8 * budget.bytes)
       fail(doc_.get("grid"),
            fmt::format("the grid has {} points and needs at least {:.3g} GiB of memory, but {:.3g} "
-                       "GiB is available (free memory, cgroup limit, CONTACTSWEEP_MEMORY_LIMIT); "
-                       "use a coarser grid or split the sweep",
-                       points, bytes / 1073741824.0, budget / 1073741824.0));
+                       "GiB is available ({}); use a coarser grid or split the sweep",
+                       points, bytes / 1073741824.0, budget.bytes / 1073741824.0, budget.source));
   }
 
   void check_axis_values(const AxisDraft& draft) const {
@@ -854,7 +853,9 @@ std::string to_toml(const toml::table& doc, const Names& grid_order) {
   return text;
 }
 
-std::string read_text_file(const std::string& path) {
+}  // namespace
+
+std::string read_spec_file(const std::string& path) {
   std::error_code ignored;
   if (std::filesystem::is_directory(path, ignored))
     throw InputError(fmt::format("cannot read spec file '{}': it is a directory", path));
@@ -866,8 +867,6 @@ std::string read_text_file(const std::string& path) {
   if (in.bad()) throw InputError(fmt::format("cannot read spec file '{}': read error", path));
   return text.str();
 }
-
-}  // namespace
 
 std::vector<double> linspace(double from, double to, std::int64_t n) {
   if (n <= 0) return {};
@@ -905,7 +904,7 @@ RunSpec parse_run_spec(std::string_view toml_text, const std::vector<std::string
 }
 
 RunSpec load_run_spec(const std::string& path, const std::vector<std::string>& overrides) {
-  return parse_run_spec(read_text_file(path), overrides, path);
+  return parse_run_spec(read_spec_file(path), overrides, path);
 }
 
 std::int64_t RunSpec::grid_points() const {

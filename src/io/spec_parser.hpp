@@ -38,6 +38,9 @@ namespace cs {
 RunSpec parse_run_spec(std::string_view toml_text, const std::vector<std::string>& overrides,
                        std::string_view source_name);
 
+// The text of the spec file at `path`; an unreadable file is an InputError naming the path.
+std::string read_spec_file(const std::string& path);
+
 // Reads the file at `path` and parses it; an unreadable file is an InputError naming the path.
 RunSpec load_run_spec(const std::string& path, const std::vector<std::string>& overrides);
 

@@ -1,20 +1,30 @@
 #include "parallel/journal.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
+#include <climits>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "io/run_spec.hpp"
 
 namespace cs {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '1'};
+constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '2'};
+constexpr std::size_t kRunIdBytes = 16;  // run_identity() is 16 hex digits
+constexpr const char* kManifestHeader = "contactsweep journal 2";
+constexpr const char* kOldManifestHeader = "contactsweep journal";  // format 1: no identity
 
 // FNV-1a over the payload: catches a torn or truncated block file.
 std::uint64_t checksum(const void* data, std::size_t bytes, std::uint64_t h = 1469598103934665603ull) {
@@ -23,63 +33,209 @@ std::uint64_t checksum(const void* data, std::size_t bytes, std::uint64_t h = 14
   return h;
 }
 
-// Writes `bytes` to `path` so that `path` either does not exist or holds all of them.
+std::string errno_text(int error) { return std::strerror(error); }
+
+// Writes `bytes` to `path` so that `path` either does not exist or holds all of them; a failure
+// removes the temporary (a full disk must not fill up with empty .tmp files).
 void write_atomically(const std::string& path, const std::string& bytes) {
-  std::string tmp = path + ".tmp";
+  const std::string tmp = path + ".tmp";
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot create " + tmp + ": " + std::strerror(errno));
+  if (fd < 0) throw std::runtime_error("cannot create " + tmp + ": " + errno_text(errno));
+  auto give_up = [&](const std::string& what, int error) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error("cannot " + what + " " + tmp + ": " + errno_text(error));
+  };
   std::size_t done = 0;
   while (done < bytes.size()) {
     ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      int err = errno;
-      ::close(fd);
-      throw std::runtime_error("cannot write " + tmp + ": " + std::strerror(err));
-    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) give_up("write", errno);
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0 || ::close(fd) != 0)
-    throw std::runtime_error("cannot flush " + tmp + ": " + std::strerror(errno));
-  fs::rename(tmp, path);
+  if (::fsync(fd) != 0) give_up("flush", errno);
+  if (::close(fd) != 0) {
+    int error = errno;
+    ::unlink(tmp.c_str());
+    throw std::runtime_error("cannot flush " + tmp + ": " + errno_text(error));
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    int error = errno;
+    ::unlink(tmp.c_str());
+    throw std::runtime_error("cannot rename " + tmp + ": " + errno_text(error));
+  }
 }
 
-std::string manifest_text(const RunIdentity& id) {
+std::string manifest_text(const JournalManifest& m) {
   std::ostringstream s;
-  s << "contactsweep journal\nversion " << id.version << "\npoints " << id.points
-    << "\nblock_size " << id.block_size << "\nspec_bytes " << id.spec_text.size() << "\n"
-    << id.spec_text;
+  s << kManifestHeader << "\nrun " << m.run_id << "\nbuild " << m.build << "\npoints " << m.points
+    << "\nblock_size " << m.block_size << "\nreplaces_output " << (m.replaces_output ? 1 : 0)
+    << "\nspec_bytes " << m.spec_text.size() << "\n"
+    << m.spec_text;
   return s.str();
+}
+
+// "key value" on one line; false when the key differs.
+bool read_field(std::istream& in, const char* key, std::string& value) {
+  std::string line;
+  if (!std::getline(in, line)) return false;
+  const std::string prefix = std::string(key) + " ";
+  if (line.rfind(prefix, 0) != 0) return false;
+  value = line.substr(prefix.size());
+  return true;
+}
+
+bool read_number(std::istream& in, const char* key, std::int64_t& value) {
+  std::string text;
+  if (!read_field(in, key, text)) return false;
+  try {
+    std::size_t used = 0;
+    value = std::stoll(text, &used);
+    return used == text.size();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// The manifest, or the reason there is none ("" when there is no manifest file at all).
+std::optional<JournalManifest> read_manifest(const std::string& path, std::string& problem) {
+  std::error_code error;
+  if (!fs::exists(path, error)) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    problem = "cannot read " + path + ": " + errno_text(errno);
+    return std::nullopt;
+  }
+  std::string header;
+  std::getline(in, header);
+  if (header == kOldManifestHeader) {
+    problem = "it was left by an older contactsweep whose journal did not identify its build";
+    return std::nullopt;
+  }
+  JournalManifest m;
+  std::int64_t replaces = 0, spec_bytes = 0;
+  if (header != kManifestHeader || !read_field(in, "run", m.run_id) ||
+      !read_field(in, "build", m.build) || !read_number(in, "points", m.points) ||
+      !read_number(in, "block_size", m.block_size) ||
+      !read_number(in, "replaces_output", replaces) ||
+      !read_number(in, "spec_bytes", spec_bytes) || spec_bytes < 0) {
+    problem = "its manifest " + path + " is damaged";
+    return std::nullopt;
+  }
+  m.replaces_output = replaces != 0;
+  m.spec_text.resize(static_cast<std::size_t>(spec_bytes));
+  if (!in.read(m.spec_text.data(), spec_bytes) || in.peek() != EOF) {
+    problem = "its manifest " + path + " is damaged";
+    return std::nullopt;
+  }
+  return m;
+}
+
+std::string lock_holder_text() {
+  char host[HOST_NAME_MAX + 1] = {};
+  ::gethostname(host, sizeof host);
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char when[32] = {};
+  std::strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
+  return "pid " + std::to_string(::getpid()) + " on " + host + ", started " + when;
+}
+
+// Non-blocking write lock on the whole file. Open file description locks stay with this fd
+// whatever else the process opens and closes; F_SETLK is the fallback for kernels or file
+// systems without them. Returns 0 or errno.
+int try_lock(int fd) {
+  struct flock request {};
+  request.l_type = F_WRLCK;
+  request.l_whence = SEEK_SET;
+  if (::fcntl(fd, F_OFD_SETLK, &request) == 0) return 0;
+  if (errno != EINVAL) return errno;
+  return ::fcntl(fd, F_SETLK, &request) == 0 ? 0 : errno;
 }
 
 }  // namespace
 
-Journal::Journal(const std::string& output_path) : directory_(output_path + ".journal") {}
+Journal::Journal(const std::string& output_path, std::string run_id)
+    : directory_(output_path + ".journal"), run_id_(std::move(run_id)) {}
 
-bool Journal::exists() const { return fs::exists(directory_); }
-
-std::optional<RunIdentity> Journal::recorded_identity() const {
-  std::ifstream in(directory_ + "/manifest", std::ios::binary);
-  if (!in) return std::nullopt;
-  RunIdentity id;
-  std::string header, key;
-  std::size_t spec_bytes = 0;
-  std::getline(in, header);
-  if (header != "contactsweep journal") return std::nullopt;
-  if (!(in >> key >> id.version) || key != "version") return std::nullopt;
-  if (!(in >> key >> id.points) || key != "points") return std::nullopt;
-  if (!(in >> key >> id.block_size) || key != "block_size") return std::nullopt;
-  if (!(in >> key >> spec_bytes) || key != "spec_bytes") return std::nullopt;
-  in.get();  // the newline before the spec text
-  id.spec_text.resize(spec_bytes);
-  if (!in.read(id.spec_text.data(), static_cast<std::streamsize>(spec_bytes))) return std::nullopt;
-  return id;
+Journal::~Journal() {
+  if (lock_fd_ < 0) return;
+  if (!started_ && created_directory_) {  // refused before it began: leave no trace
+    std::error_code ignored;
+    fs::remove(directory_ + "/lock", ignored);
+    fs::remove(directory_, ignored);
+  }
+  ::close(lock_fd_);
 }
 
-void Journal::create(const RunIdentity& id) const {
-  fs::remove_all(directory_);
+void Journal::lock() {
+  const std::string path = directory_ + "/lock";
+  auto refuse = [&](const std::string& why) {
+    throw InputError("cannot lock the journal '" + directory_ + "' of this output: " + why);
+  };
+  // A run that finishes removes its lock file while holding it; one that we opened just before
+  // may then be gone, so the lock only counts if the file is still the one at `path`.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::error_code error;
+    if (fs::create_directory(directory_, error)) created_directory_ = true;
+    if (error) refuse(error.message());
+    int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) refuse(path + ": " + errno_text(errno));
+    if (int failure = try_lock(fd); failure != 0) {
+      std::string holder(256, '\0');
+      const ssize_t n = ::pread(fd, holder.data(), holder.size(), 0);
+      holder.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+      ::close(fd);
+      if (failure == EAGAIN || failure == EACCES)
+        throw InputError("another run is writing this output (" +
+                         (holder.empty() ? std::string("its lock: ") + path : holder) +
+                         "); wait for it to end, or choose another output");
+      if (failure == ENOLCK) {  // a file system without locks (an NFS mount without lockd)
+        lock_fd_ = -1;
+        return;
+      }
+      refuse(path + ": " + errno_text(failure));
+    }
+    struct stat held {}, named {};
+    if (::fstat(fd, &held) != 0 || ::stat(path.c_str(), &named) != 0 ||
+        held.st_ino != named.st_ino || held.st_dev != named.st_dev) {
+      ::close(fd);
+      continue;
+    }
+    const std::string holder = lock_holder_text();
+    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, holder.data(), holder.size(), 0) < 0) {
+      // The lock holds all the same; only the text naming its holder is missing.
+    }
+    lock_fd_ = fd;
+    return;
+  }
+  refuse("its lock file keeps disappearing");
+}
+
+JournalContents Journal::inspect() const {
+  JournalContents contents;
+  std::error_code error;
+  contents.directory_exists = fs::is_directory(directory_, error);
+  if (!contents.directory_exists) return contents;
+  contents.manifest = read_manifest(directory_ + "/manifest", contents.manifest_problem);
+  for (const auto& entry : fs::directory_iterator(directory_, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "lock") continue;
+    if (name.rfind("block_", 0) == 0 && entry.path().extension() == ".bin") ++contents.block_files;
+    const auto size = entry.file_size(error);
+    if (!error) contents.bytes += static_cast<std::int64_t>(size);
+  }
+  return contents;
+}
+
+void Journal::start(const JournalManifest& manifest) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(directory_, error))
+    if (entry.path().filename() != "lock") fs::remove_all(entry.path());
+  if (error)
+    throw std::runtime_error("cannot clear the journal '" + directory_ + "': " + error.message());
   fs::create_directories(directory_);
-  write_atomically(directory_ + "/manifest", manifest_text(id));
+  write_atomically(directory_ + "/manifest", manifest_text(manifest));
+  started_ = true;
 }
 
 std::string Journal::block_path(std::int64_t begin) const {
@@ -89,6 +245,9 @@ std::string Journal::block_path(std::int64_t begin) const {
 void Journal::save(const BlockResults& block) const {
   std::string bytes(kBlockMagic, sizeof kBlockMagic);
   auto put = [&](const void* p, std::size_t n) { bytes.append(static_cast<const char*>(p), n); };
+  std::string stamp = run_id_;
+  stamp.resize(kRunIdBytes, ' ');
+  put(stamp.data(), kRunIdBytes);
   std::int64_t header[3] = {block.range.begin, block.range.end,
                             static_cast<std::int64_t>(block.columns.size())};
   put(header, sizeof header);
@@ -106,7 +265,7 @@ bool Journal::load(BlockResults& block) const {
   std::ifstream in(block_path(block.range.begin), std::ios::binary);
   if (!in) return false;
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::size_t expected = sizeof kBlockMagic + 3 * sizeof(std::int64_t) +
+  std::size_t expected = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) +
                          block.columns.size() * sizeof(std::int64_t) + sizeof(std::uint64_t);
   for (const auto& col : block.columns) expected += col.size() * sizeof(double);
   if (bytes.size() != expected || std::memcmp(bytes.data(), kBlockMagic, sizeof kBlockMagic) != 0)
@@ -115,6 +274,10 @@ bool Journal::load(BlockResults& block) const {
   std::memcpy(&sum, bytes.data() + bytes.size() - sizeof sum, sizeof sum);
   if (sum != checksum(bytes.data(), bytes.size() - sizeof sum)) return false;
   const char* p = bytes.data() + sizeof kBlockMagic;
+  std::string stamp = run_id_;
+  stamp.resize(kRunIdBytes, ' ');
+  if (std::memcmp(p, stamp.data(), kRunIdBytes) != 0) return false;  // another run's block
+  p += kRunIdBytes;
   std::int64_t header[3];
   std::memcpy(header, p, sizeof header);
   p += sizeof header;
@@ -134,6 +297,14 @@ bool Journal::load(BlockResults& block) const {
   return true;
 }
 
-void Journal::remove() const { fs::remove_all(directory_); }
+void Journal::remove() {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(directory_, error))
+    if (entry.path().filename() != "lock") fs::remove_all(entry.path(), error);
+  fs::remove(directory_ + "/lock", error);
+  fs::remove(directory_, error);
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+  lock_fd_ = -1;
+}
 
 }  // namespace cs

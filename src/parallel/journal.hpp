@@ -6,56 +6,84 @@
 // middle of a write, and one corrupt file would lose everything. Instead every block is its own
 // small file, written under a temporary name, synced and renamed into place (atomic on POSIX),
 // with a checksum; the HDF5 file is only assembled at the end, and the journal is removed once
-// the output has been renamed into place.
+// the output is durably in place.
 //
-// Layout: OUT.h5.journal/manifest (identity of the run) and block_<begin>.bin per block.
+// Blocks are only ever combined with blocks of the same run: the manifest and every block carry
+// the run's identity (run_identity.hpp: spec, build, block cut), and a block with another
+// identity is never loaded. While a run lives, rank 0 holds a lock on the journal, so a second
+// run on the same output is refused instead of mixing its blocks in or deleting them.
+//
+// Layout: OUT.h5.journal/lock (who holds the run), manifest (identity of the run) and
+// block_<begin>.bin per block.
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "engine/results.hpp"
 
 namespace cs {
 
-// What makes two runs the same run: same spec text (after --set), same program version, same
-// block size (block size changes no bits, but blocks are the journal's unit).
-struct RunIdentity {
-  std::string spec_text;
-  std::string version;
+// What the manifest records about the run that owns the journal.
+struct JournalManifest {
+  std::string run_id;            // run_identity(): stamped on every block
+  std::string build;             // build_identity() of the program that started the run
   std::int64_t points = 0;
   std::int64_t block_size = 0;
+  bool replaces_output = false;  // started with --force: its commit may replace the output
+  std::string spec_text;
+};
+
+// What an earlier run left in the journal directory.
+struct JournalContents {
+  bool directory_exists = false;
+  std::optional<JournalManifest> manifest;
+  std::string manifest_problem;  // why there is no manifest: empty when none was ever written
+  std::int64_t block_files = 0;
+  std::int64_t bytes = 0;        // on disk, blocks and manifest
 };
 
 class Journal {
  public:
-  explicit Journal(const std::string& output_path);
+  Journal(const std::string& output_path, std::string run_id);
+  ~Journal();
+  Journal(const Journal&) = delete;
+  Journal& operator=(const Journal&) = delete;
 
   const std::string& directory() const { return directory_; }
-  bool exists() const;
 
-  // The identity recorded by an earlier run, if a readable manifest is there.
-  std::optional<RunIdentity> recorded_identity() const;
+  // Rank 0. Creates the directory when missing and locks it for this run: an open file
+  // description lock, which the kernel releases however the process ends, so a killed run
+  // never leaves a stale lock. Throws InputError naming the live holder when another run holds
+  // it, or when the journal cannot be opened.
+  void lock();
 
-  // Rank 0 only: start an empty journal for `id`, replacing any old one.
-  void create(const RunIdentity& id) const;
+  // Rank 0, under the lock.
+  JournalContents inspect() const;
 
-  // Thread-safe: saves a finished block atomically. Throws std::runtime_error on I/O failure.
+  // Rank 0, under the lock: drops whatever an earlier run left and records `manifest`.
+  void start(const JournalManifest& manifest);
+
+  // Thread-safe, any rank: saves a finished block atomically, stamped with the run identity.
+  // Throws std::runtime_error on I/O failure and leaves no temporary file behind.
   void save(const BlockResults& block) const;
 
-  // Loads a saved block into `block` (range and column widths must match); false when the
-  // block is missing or damaged (then it is simply computed again).
+  // Loads this run's saved block into `block` (range and column widths must match); false when
+  // the block is missing, damaged or stamped by another run (then it is computed again).
   bool load(BlockResults& block) const;
 
-  // Rank 0 only, after the output is in place.
-  void remove() const;
+  // Rank 0, under the lock, after the output is durably in place: removes the journal, the
+  // lock last.
+  void remove();
 
  private:
   std::string block_path(std::int64_t begin) const;
   std::string directory_;
+  std::string run_id_;
+  int lock_fd_ = -1;
+  bool created_directory_ = false;  // by lock(): removed again if the run never starts
+  bool started_ = false;
 };
 
 }  // namespace cs

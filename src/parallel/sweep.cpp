@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -16,12 +17,15 @@
 #include <vector>
 
 #include "engine/run_plan.hpp"
+#include "io/log.hpp"
 #include "io/memory_budget.hpp"
-#include "io/output_file.hpp"
 #include "io/output_inspect.hpp"
+#include "parallel/agreement.hpp"
+#include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
+#include "parallel/output_assembly.hpp"
 #include "parallel/progress.hpp"
-#include "version.hpp"
+#include "parallel/run_identity.hpp"
 
 namespace cs {
 namespace {
@@ -35,11 +39,19 @@ struct Comm {
   }
 };
 
-// Blocks are the unit of load balance: several per thread so that dynamic scheduling can even
-// out lanes that stop early, large enough that refilling a tile keeps it full most of the time.
-std::int64_t choose_block_size(std::int64_t points, int ranks, int threads) {
-  std::int64_t target = points / (static_cast<std::int64_t>(ranks) * threads * 16);
-  return std::clamp<std::int64_t>(target, 256, 16384);
+// Blocks are the unit of load balance and of the journal. Their size is a function of the spec
+// alone, never of a rank's threads or the rank count: ranks with different resources (a Slurm
+// job over nodes with different CPU masks) must deal the same block list, and a journal must be
+// resumable on any layout. A block holds about 5e7 lane-steps (0.1-0.3 s on one core), so the
+// fsync of its journal file costs under 1%; but the grid is cut into at least 64 blocks so that
+// small runs still spread over the threads of several ranks.
+std::int64_t choose_block_size(std::int64_t points, std::int64_t steps) {
+  constexpr double kLaneStepsPerBlock = 5e7;
+  constexpr std::int64_t kMinBlocks = 64, kMinPoints = 256, kMaxPoints = std::int64_t{1} << 20;
+  const auto by_work = static_cast<std::int64_t>(
+      std::ceil(kLaneStepsPerBlock / static_cast<double>(std::max<std::int64_t>(steps, 1))));
+  const std::int64_t by_count = (points + kMinBlocks - 1) / kMinBlocks;
+  return std::clamp(std::min(by_work, by_count), kMinPoints, kMaxPoints);
 }
 
 struct Block {
@@ -63,66 +75,6 @@ std::vector<Block> my_blocks(const std::vector<std::unique_ptr<RunPlan>>& slices
   return blocks;
 }
 
-FileLayout make_layout(const RunPlan& plan, const SweepOptions& options, const Comm& c) {
-  FileLayout layout;
-  for (const auto& axis : plan.spec.axes) {
-    std::string long_name;
-    if (axis.is_step_size) {
-      long_name = "integrator step size h";
-    } else if (axis.is_parameter) {
-      for (const auto& p : plan.scene.parameters)
-        if (p.name == axis.target) long_name = p.description;
-    } else {
-      long_name = "initial value of " + axis.target;
-    }
-    layout.axes.push_back({axis.name, axis.values, long_name, ""});
-  }
-  if (plan.samples > 0) layout.time = CoordinateSpec{"t", plan.sample_times, "time", "time"};
-  for (const auto& column : plan.columns) layout.datasets.push_back(column.dataset);
-  auto& text = layout.text_attributes;
-  text["title"] = plan.spec.title;
-  text["spec"] = plan.spec.spec_text;
-  text["scene"] = plan.scene.name;
-  text["hamiltonian"] = plan.scene.hamiltonian;
-  text["method"] = plan.method.name;
-  text["contactsweep_version"] = kVersion;
-  text["Conventions"] = "CF-1.8";
-  text["history"] = options.command_line;
-  auto& number = layout.number_attributes;
-  const bool h_axis = !plan.spec.axes.empty() && plan.spec.axes.front().is_step_size;
-  const double nan = std::numeric_limits<double>::quiet_NaN();  // h varies: see coordinate h
-  number["h"] = h_axis ? nan : plan.spec.h;
-  number["t_end"] = plan.spec.t_end;
-  number["steps"] = h_axis ? nan : static_cast<double>(plan.spec.steps);
-  number["mpi_ranks"] = c.size;
-  number["omp_threads"] = omp_get_max_threads();
-  return layout;
-}
-
-template <class T>
-std::vector<T> converted(const std::vector<double>& values) {
-  std::vector<T> out(values.size());
-  std::transform(values.begin(), values.end(), out.begin(),
-                 [](double v) { return static_cast<T>(v); });
-  return out;
-}
-
-void write_column(OutputFile& file, const ColumnSpec& spec, std::size_t index,
-                  const std::vector<std::unique_ptr<BlockResults>>& blocks) {
-  std::vector<PointRange> ranges;
-  std::vector<double> values;
-  for (const auto& b : blocks) {
-    ranges.push_back(b->range);
-    const auto& col = b->columns[index];
-    values.insert(values.end(), col.begin(), col.end());
-  }
-  switch (spec.dataset.type) {
-    case ElementType::float64: file.write(spec.dataset.name, ranges, values.data()); break;
-    case ElementType::int8: file.write(spec.dataset.name, ranges, converted<std::int8_t>(values).data()); break;
-    case ElementType::uint8: file.write(spec.dataset.name, ranges, converted<std::uint8_t>(values).data()); break;
-  }
-}
-
 std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& blocks, int column,
                           LaneStatus status) {
   std::int64_t n = 0;
@@ -132,71 +84,188 @@ std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& bloc
   return n;
 }
 
-// Refuses, before any work, a run whose results cannot fit: every rank holds the results of
-// its blocks until the end (memory), and the file holds all of them (disk). Trajectories are
-// the usual culprit; the message says how much was asked and how much there is.
-void check_resources(const RunPlan& plan, const SweepOptions& options, const Comm& c) {
-  double values_per_point = 0.0;
-  for (const auto& column : plan.columns) values_per_point += static_cast<double>(column.width);
-  const double points = static_cast<double>(plan.grid.size());
-  const double memory_per_rank = points / c.size * values_per_point * sizeof(double);
-  const double file_bytes = points * values_per_point * sizeof(double);
-  const double available_memory = memory_budget_bytes();
-  auto gib = [](double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); };
-  // Ranks on one node share its memory; assume all of them do (the safe side on a laptop).
-  if (memory_per_rank * c.size > 0.8 * available_memory)
-    throw InputError(fmt::format(
-        "the results need {} of memory ({} points x {} values) but {} is available; use a "
-        "coarser grid, fewer measures or a larger trajectory.every",
-        gib(memory_per_rank * c.size), plan.grid.size(), values_per_point, gib(available_memory)));
-  auto directory = std::filesystem::absolute(options.output).parent_path();
-  std::error_code error;
-  auto space = std::filesystem::space(directory, error);
-  // access() alone passes a regular file for root, so the parent must be a directory too.
-  if (error || !std::filesystem::is_directory(directory) ||
-      ::access(directory.c_str(), W_OK) != 0)
-    throw InputError("cannot write the output '" + options.output + "': directory '" +
-                     directory.string() + "' is missing or not writable");
-  if (file_bytes > 0.95 * static_cast<double>(space.available))
-    throw InputError(fmt::format("the output needs about {} but {} has {} free", gib(file_bytes),
-                                 directory.string(), gib(static_cast<double>(space.available))));
+double values_per_point(const RunPlan& plan) {
+  double values = 0.0;
+  for (const auto& column : plan.columns) values += static_cast<double>(column.width);
+  return values;
 }
 
-// How this invocation relates to what an earlier one left at the output path.
-enum class Start { fresh, resume, complete };
+double file_bytes(const RunPlan& plan) {
+  return static_cast<double>(plan.grid.size()) * values_per_point(plan) * sizeof(double);
+}
 
-// Decides from the file system alone (every rank sees the same), before anything is changed.
-Start decide_start(const RunSpec& spec, const SweepOptions& options, const Journal& journal,
-                   std::int64_t& block_size) {
+// A final write this large takes long enough on a cluster file system to be announced.
+constexpr double kAnnouncedWriteBytes = 256.0 * 1024 * 1024;
+
+// Collective: every rank runs the same build on the same spec, hence deals the same blocks. A
+// job mixing builds (a stale binary on one node's local disk) would otherwise write a file
+// whose cells come from different programs.
+void check_same_run(const std::string& run_id, const Comm& c) {
+  std::string rank0_id = run_id;
+  broadcast(c.comm, rank0_id);
+  agreed(c.comm, [&] {
+    if (rank0_id != run_id)
+      throw std::runtime_error("this rank runs another build or spec than rank 0 (" +
+                               build_identity() + "); every rank must run the same program");
+  });
+}
+
+// Collective: the blocks of all ranks cover the grid exactly once. The block plan guarantees
+// it; this makes a file with unwritten cells impossible even if the plan were broken.
+void check_every_point_computed(const std::vector<std::unique_ptr<BlockResults>>& results,
+                                std::int64_t points, const Comm& c) {
+  std::int64_t local = 0;
+  for (const auto& r : results) local += r ? r->range.end - r->range.begin : 0;
+  std::int64_t total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, c.comm);
+  if (total != points)
+    throw CollectiveError(fmt::format("internal error: the ranks computed {} points of a grid of "
+                                      "{}; no output written, the journal is kept",
+                                      total, points));
+}
+
+std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); }
+
+// How this invocation relates to what an earlier one left at the output path. Rank 0 decides,
+// under the journal's lock, and every rank follows: the file system may look different from
+// other nodes (NFS attribute caches), and the decision must be one.
+enum class Start : int { fresh, resume, complete };
+
+struct Decision {
+  Start start = Start::fresh;
+  bool replace_output = false;        // the commit may replace an existing file (--force)
+  bool remove_journal = false;        // complete: the journal is this run's, left by a kill
+  std::int64_t journal_bytes = 0;     // already on disk, for the disk check
+};
+
+void check_output_path(const SweepOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(options.output, error);
+  if (fs::is_directory(status))
+    throw InputError("output '" + options.output + "' is a directory; name a file, e.g. -o " +
+                     (fs::path(options.output) / "map.h5").string());
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError("output '" + options.output +
+                     "' exists and is not a regular file (a device, pipe or socket); contactsweep "
+                     "replaces only regular files, even with --force");
+  auto directory = fs::absolute(options.output).parent_path();
+  // access() alone passes a regular file for root, so the parent must be a directory too.
+  if (!fs::is_directory(directory, error) || ::access(directory.c_str(), W_OK) != 0)
+    throw InputError("cannot write the output '" + options.output + "': directory '" +
+                     directory.string() + "' is missing or not writable");
+}
+
+// Rank 0 only, with the journal locked. Throws InputError when the user must choose.
+Decision decide_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
+                      const std::string& run_id) {
+  const JournalContents j = journal.inspect();
   const bool output_exists = std::filesystem::exists(options.output);
-  if (options.force) return Start::fresh;
+  auto output_made_by_this_spec = [&] {
+    const auto text = read_spec_attribute(options.output);
+    return text && *text == spec.spec_text;
+  };
+  const std::string saved = fmt::format("{} block(s) saved", j.block_files);
+  if (options.force) return {Start::fresh, true, false, 0};
+
+  if (j.manifest && j.manifest->run_id == run_id) {  // this very run, interrupted
+    if (output_exists && output_made_by_this_spec())  // killed after its commit
+      return {Start::complete, false, true, 0};
+    if (!options.resume)
+      throw InputError("an unfinished run of this spec left its journal in '" +
+                       journal.directory() + "' (" + saved +
+                       "); pass --resume to continue it or --force to discard it");
+    if (output_exists && !j.manifest->replaces_output)
+      throw InputError("output '" + options.output +
+                       "' appeared after this run started and was not made by it; move it away, "
+                       "then --resume finishes the run from its journal '" +
+                       journal.directory() + "' (" + saved + ")");
+    return {Start::resume, j.manifest->replaces_output, false, j.bytes};
+  }
+
   if (output_exists) {
     if (!options.resume)
       throw InputError("output '" + options.output +
                        "' exists; pass --force to replace it or --resume to continue that run");
-    auto spec_text = read_spec_attribute(options.output);
-    if (spec_text && *spec_text == spec.spec_text) return Start::complete;
+    if (output_made_by_this_spec()) return {Start::complete, false, false, 0};
     throw InputError("--resume: output '" + options.output +
                      "' was not made by this spec (after --set); pass --force to replace it");
   }
-  if (!journal.exists()) return Start::fresh;
-  if (!options.resume)
-    throw InputError("an unfinished run of '" + options.output + "' left its journal in '" +
-                     journal.directory() +
-                     "'; pass --resume to continue it or --force to discard it");
-  auto recorded = journal.recorded_identity();
-  if (!recorded)
-    throw InputError("--resume: '" + journal.directory() +
-                     "' has no readable manifest; pass --force to start afresh");
-  if (recorded->spec_text != spec.spec_text)
-    throw InputError("--resume: the unfinished run in '" + journal.directory() +
-                     "' was made by a different spec (after --set); pass --force to discard it");
-  if (recorded->version != kVersion)
-    throw InputError("--resume: the unfinished run was made by contactsweep " +
-                     recorded->version + ", this is " + kVersion +
-                     "; results could differ, pass --force to start afresh");
-  block_size = recorded->block_size;
-  return Start::resume;
+
+  if (j.manifest || j.block_files > 0) {  // another run's unfinished work: the user decides
+    std::string maker;
+    if (!j.manifest)
+      maker = j.manifest_problem.empty() ? "a run whose manifest is missing" : j.manifest_problem;
+    else if (j.manifest->spec_text != spec.spec_text)
+      maker = "a different spec (after --set)";
+    else if (j.manifest->build != build_identity())
+      maker = "another build of contactsweep (" + j.manifest->build + "; this is " +
+              build_identity() + "), whose results may differ";
+    else
+      maker = "the same spec cut into other blocks";
+    throw InputError(std::string(options.resume ? "--resume: " : "") + "the unfinished run in '" +
+                     journal.directory() + "' (" + saved + ") was made by " + maker +
+                     "; pass --force to discard it" +
+                     (options.resume ? "" : ", or --resume with the spec that made it"));
+  }
+  return {Start::fresh, false, false, 0};  // nothing, or a journal holding no block
+}
+
+// Collective: rank 0 locks the journal and decides; every rank gets the decision.
+Decision agreed_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
+                      const std::string& run_id, const Comm& c) {
+  Decision d = agreed(c.comm, [&] {
+    if (c.rank != 0) return Decision{};
+    check_output_path(options);
+    journal.lock();
+    return decide_start(spec, options, journal, run_id);
+  });
+  std::int64_t fields[4] = {static_cast<std::int64_t>(d.start), d.replace_output,
+                            d.remove_journal, d.journal_bytes};
+  MPI_Bcast(fields, 4, MPI_INT64_T, 0, c.comm);
+  return {static_cast<Start>(fields[0]), fields[1] != 0, fields[2] != 0, fields[3]};
+}
+
+// Collective. Refuses, before any work, a run whose results cannot fit: every rank holds the
+// results of its blocks until the end, and ranks on one node share its memory (counted per
+// node, against that node's budget); at the end the disk holds the journal and the file at once.
+void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t blocks,
+                     const Decision& decision, const SweepOptions& options, const Comm& c) {
+  const double values = values_per_point(plan);
+  MPI_Comm node = MPI_COMM_NULL;
+  MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
+  double node_bytes = static_cast<double>(local_points) * values * sizeof(double);
+  MPI_Allreduce(MPI_IN_PLACE, &node_bytes, 1, MPI_DOUBLE, MPI_SUM, node);
+  int node_ranks = 1;
+  MPI_Comm_size(node, &node_ranks);
+  MPI_Comm_free(&node);
+  agreed(c.comm, [&] {
+    const MemoryBudget budget = memory_budget();
+    if (node_bytes > 0.8 * budget.bytes)
+      throw InputError(fmt::format(
+          "the results need {} of memory on this node ({} rank(s); {} points x {} values in "
+          "all) but {} is available ({}); use a coarser grid, fewer measures, a larger "
+          "trajectory.every or more nodes",
+          gib(node_bytes), node_ranks, plan.grid.size(), values, gib(budget.bytes),
+          budget.source));
+    if (c.rank != 0) return;
+    const double points = static_cast<double>(plan.grid.size());
+    const double file_bytes = points * values * sizeof(double) + 65536.0;  // + HDF5 metadata
+    const double journal_bytes = points * values * sizeof(double) + static_cast<double>(blocks) * 256;
+    const double needed =
+        file_bytes + std::max(0.0, journal_bytes - static_cast<double>(decision.journal_bytes));
+    const auto directory = std::filesystem::absolute(options.output).parent_path();
+    std::error_code error;
+    const auto space = std::filesystem::space(directory, error);
+    if (error)
+      throw InputError("cannot write the output '" + options.output + "': " + error.message());
+    if (needed > 0.95 * static_cast<double>(space.available))
+      throw InputError(fmt::format(
+          "the output and its journal need about {} but {} has {} free (the file {}, the "
+          "journal of finished blocks {}, both on disk until the file is in place)",
+          gib(needed), directory.string(), gib(static_cast<double>(space.available)),
+          gib(file_bytes), gib(journal_bytes)));
+  });
 }
 
 // Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N][@RANK]): the process kills itself with SIGKILL at
@@ -229,67 +298,88 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   summary.points = plan.grid.size();
   auto start_time = std::chrono::steady_clock::now();
 
-  const int threads = omp_get_max_threads();
-  std::int64_t block_size = choose_block_size(plan.grid.size(), c.size, threads);
-  check_resources(plan, options, c);
-  Journal journal(options.output);
-  Start start = decide_start(spec, options, journal, block_size);
-  MPI_Barrier(comm);  // every rank has looked before rank 0 changes anything
-  if (start == Start::complete) {
-    if (c.rank == 0) journal.remove();  // left over if a run was killed right after its commit
+  const std::int64_t block_size = choose_block_size(plan.grid.size(), spec.steps);
+  const std::string run_id = run_identity(spec.spec_text, plan.grid.size(), block_size);
+  check_same_run(run_id, c);
+  Journal journal(options.output, run_id);
+  const Decision decision = agreed_start(spec, options, journal, run_id, c);
+  if (decision.start == Start::complete) {
+    if (c.rank == 0 && decision.remove_journal) journal.remove();
     summary.already_complete = true;
     return summary;
   }
-  if (start == Start::fresh && c.rank == 0)
-    journal.create({spec.spec_text, kVersion, plan.grid.size(), block_size});
-  MPI_Barrier(comm);
 
   auto blocks = my_blocks(slices, block_size, c);
   std::int64_t local_points = 0;
   for (const auto& b : blocks) local_points += b.range.end - b.range.begin;
+  check_resources(plan, local_points, static_cast<std::int64_t>(blocks.size()) * c.size, decision,
+                  options, c);
+  if (decision.start == Start::fresh)
+    agreed(comm, [&] {
+      if (c.rank == 0)
+        journal.start({run_id, build_identity(), plan.grid.size(), block_size,
+                       decision.replace_output, spec.spec_text});
+    });
+
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
                             !options.quiet && c.rank == 0);
-
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
-  std::atomic<std::int64_t> saved{0};
-  std::string failure;
+  std::atomic<std::int64_t> saved{0}, computed{0};
+  std::exception_ptr failure;
+  FailureWatch watch(comm);
+  const auto compute_start = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    try {
-      results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
-      if (start != Start::resume || !journal.load(*results[i])) {
-        run_block(*blocks[i].plan, *results[i]);
-        journal.save(*results[i]);
-        test_kill_point("block", c.rank, ++saved);
-      }
-      progress.add(blocks[i].range.end - blocks[i].range.begin);
-    } catch (const std::exception& e) {
+    if (!watch.stop()) {
+      try {
+        const std::int64_t n = blocks[i].range.end - blocks[i].range.begin;
+        results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
+        if (decision.start != Start::resume || !journal.load(*results[i])) {
+          run_block(*blocks[i].plan, *results[i]);
+          journal.save(*results[i]);
+          computed += n;
+          test_kill_point("block", c.rank, ++saved);
+        }
+        progress.add(n);
+      } catch (...) {
 #pragma omp critical(sweep_failure)
-      if (failure.empty()) failure = e.what();
+        if (!failure) failure = std::current_exception();
+        watch.report_failure();  // no thread of any rank starts another block
+      }
+    }
+    if (omp_get_thread_num() == 0) watch.poll();
+  }
+  watch.finish();
+  throw_if_any_failed(comm, failure);
+  summary.compute_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - compute_start).count();
+  check_every_point_computed(results, plan.grid.size(), c);
+
+  if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
+    log("contactsweep: computed every point; writing {} ({})", options.output,
+        gib(file_bytes(plan)));
+  // A failure here is thrown on every rank; the journal stays for --resume.
+  write_output(plan, results,
+               {options.output, options.command_line, decision.replace_output,
+                [&] { test_kill_point("write", c.rank); }},
+               comm);
+  test_kill_point("commit", c.rank);
+  if (c.rank == 0) {
+    try {
+      journal.remove();
+    } catch (const std::exception& e) {  // the output is in place: the run succeeded
+      log("contactsweep: warning: the output is complete but its journal '{}' could not be "
+          "removed: {}", journal.directory(), e.what());
     }
   }
-  int failed = !failure.empty(), any_failed = 0;
-  MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, comm);
-  if (failed) throw std::runtime_error(failure);
-  if (any_failed) throw std::runtime_error("another rank failed; its message is above");
 
-  {
-    OutputFile file(options.output, make_layout(plan, options, c), comm);
-    for (std::size_t k = 0; k < plan.columns.size(); ++k)
-      write_column(file, plan.columns[k], k, results);
-    test_kill_point("write", c.rank);
-    file.commit();
-  }
-  test_kill_point("commit", c.rank);
-  MPI_Barrier(comm);
-  if (c.rank == 0) journal.remove();
-
-  std::int64_t local[2] = {count_status(results, plan.map.status, LaneStatus::diverged),
-                           count_status(results, plan.map.status, LaneStatus::breakdown)};
-  std::int64_t global[2];
-  MPI_Allreduce(local, global, 2, MPI_INT64_T, MPI_SUM, comm);
-  summary.flagged_diverged = global[0];
-  summary.flagged_breakdown = global[1];
+  std::int64_t counts[3] = {count_status(results, plan.map.status, LaneStatus::diverged),
+                            count_status(results, plan.map.status, LaneStatus::breakdown),
+                            computed.load()};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_INT64_T, MPI_SUM, comm);
+  summary.flagged_diverged = counts[0];
+  summary.flagged_breakdown = counts[1];
+  summary.computed_points = counts[2];
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

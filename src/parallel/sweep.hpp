@@ -22,14 +22,17 @@ struct SweepOptions {
 
 struct SweepSummary {
   std::int64_t points = 0;
+  std::int64_t computed_points = 0;  // integrated by this invocation (not loaded on --resume)
+  double compute_seconds = 0.0;      // of the block loop
   std::int64_t flagged_diverged = 0;
   std::int64_t flagged_breakdown = 0;
   double seconds = 0.0;
   bool already_complete = false;
 };
 
-// Collective over `comm`. Throws InputError for an output that must not be overwritten,
-// std::runtime_error for I/O failures.
+// Collective over `comm`. Every failure is thrown on every rank together (agreement.hpp):
+// InputError for input the user must change (an output that must not be overwritten, a run
+// that does not fit), CollectiveError for run-time failures (I/O).
 SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm);
 
 }  // namespace cs
