@@ -46,16 +46,18 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
     return 0;
   }
   // The rate counts the points integrated by this invocation, not blocks a resume loaded.
+  // Scripts parse "steps in X s" (jobs/bench_basins.sh, work_precision.py): keep that shape.
   const double rate = static_cast<double>(s.computed_points) * static_cast<double>(spec.steps) /
-                      s.compute_seconds;
+                      s.seconds;
   const std::string resumed =
       s.computed_points < s.points
-          ? fmt::format(", {} of them loaded from the journal", s.points - s.computed_points)
+          ? fmt::format("; {} points loaded from the journal, {} integrated",
+                        s.points - s.computed_points, s.computed_points)
           : "";
-  log("contactsweep: wrote {} ({} points{} x {} steps; {} points integrated in {:.3f} s, {:.3g} "
-      "traj-steps/s; total {:.3f} s); flagged: {} diverged, {} integrator breakdown",
-      options.output, s.points, resumed, spec.steps, s.computed_points, s.compute_seconds,
-      s.computed_points > 0 ? rate : 0.0, s.seconds, s.flagged_diverged, s.flagged_breakdown);
+  log("contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s{}); "
+      "flagged: {} diverged, {} integrator breakdown",
+      options.output, s.points, spec.steps, s.seconds, rate, resumed, s.flagged_diverged,
+      s.flagged_breakdown);
   return 0;
 }
 

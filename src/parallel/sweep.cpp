@@ -327,7 +327,6 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   std::atomic<std::int64_t> saved{0}, computed{0};
   std::exception_ptr failure;
   FailureWatch watch(comm);
-  const auto compute_start = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!watch.stop()) {
@@ -351,8 +350,6 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   watch.finish();
   throw_if_any_failed(comm, failure);
-  summary.compute_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - compute_start).count();
   check_every_point_computed(results, plan.grid.size(), c);
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)

@@ -23,7 +23,6 @@ struct SweepOptions {
 struct SweepSummary {
   std::int64_t points = 0;
   std::int64_t computed_points = 0;  // integrated by this invocation (not loaded on --resume)
-  double compute_seconds = 0.0;      // of the block loop
   std::int64_t flagged_diverged = 0;
   std::int64_t flagged_breakdown = 0;
   double seconds = 0.0;

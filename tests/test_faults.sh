@@ -1,0 +1,266 @@
+#!/usr/bin/env bash
+# Fault injection, end to end (issue 13): every way a batch job can go wrong that we know of must
+# end with a clear message and the right exit status — never a wrong file with exit 0, never a
+# hang, never a lost finished block — and --resume must then give the uninterrupted run's bits.
+#   test_faults.sh CONTACTSWEEP FAIL_WRITES_SO COMPARE_SCRIPT WORKDIR [LONG_T_END]
+# FAIL_WRITES_SO is tests/fault/fail_writes.c built as a shared object (LD_PRELOAD: writes to
+# chosen files fail with ENOSPC after N bytes). LONG_T_END sets the length of the runs that other
+# processes interfere with while they live (~2 s in a release build).
+# Last line: "N passed, M failed".
+set -uo pipefail
+bin=$(realpath "$1") shim=$(realpath "$2") compare=$(realpath "$3") work=$4 long_t_end=${5:-3000}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+# The shim is not the first library of a sanitized binary; ASan need not insist on it.
+export ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0
+mpirun=(mpirun --oversubscribe --bind-to none)
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+trap 'mountpoint -q "$work/small" && umount "$work/small"' EXIT
+
+cat >spec.toml <<'EOF'
+[scene]
+name = "double_well"
+[integrator]
+h = 0.01
+t_end = 20.0
+[grid]
+q_0 = { from = -3.0, to = 3.0, n = 131 }
+p_0 = { from = -3.0, to = 3.0, n = 127 }
+[measures]
+basin = { early_stop = false }
+final_state = { vars = ["q", "p"] }
+EOF
+long=(--set "integrator.t_end=$long_t_end")  # the same grid, integrated for a few seconds
+
+passed=0 failed=0
+ok() { echo "ok    $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL  $1: $2"; failed=$((failed + 1)); }
+# same NAME OUT REFERENCE: OUT exists, no journal or temporary is left, and its data equal REFERENCE.
+same() {
+  local leftovers
+  leftovers=$(ls -d "$2".journal "$2".partial* 2>/dev/null)
+  if [[ ! -f $2 ]]; then bad "$1" "no output $2"; return 1; fi
+  if [[ -n $leftovers ]]; then bad "$1" "leftovers: $leftovers"; return 1; fi
+  local why
+  if ! why=$(/usr/bin/python3 "$compare" "$3" "$2" 2>&1); then bad "$1" "$why"; return 1; fi
+  return 0
+}
+# status NAME EXPECTED ACTUAL LOG FRAGMENT: exit status and message.
+status_and_message() {
+  if (($3 != $2)); then bad "$1" "exit status $3, expected $2; log: $(tr '\n' ' ' <"$4" | cut -c1-400)"; return 1; fi
+  if ! grep -qF -- "$5" "$4"; then bad "$1" "the log lacks '$5': $(tr '\n' ' ' <"$4" | cut -c1-400)"; return 1; fi
+  return 0
+}
+blocks_in() { ls "$1".journal 2>/dev/null | grep -c '^block_.*\.bin$'; }
+wait_for_blocks() {  # wait_for_blocks OUT N: until the run on OUT has journaled N blocks (<= 60 s)
+  for _ in $(seq 600); do (($(blocks_in "$1") >= $2)) && return 0; sleep 0.1; done
+  return 1
+}
+
+"$bin" run spec.toml -o reference.h5 --quiet || { echo "reference run failed"; exit 1; }
+"$bin" run spec.toml -o long_reference.h5 --quiet "${long[@]}" || { echo "long reference failed"; exit 1; }
+
+# 1. Ranks with different thread counts deal the same blocks: every cell is computed once.
+"${mpirun[@]}" -np 1 -x OMP_NUM_THREADS=1 "$bin" run spec.toml -o het.h5 --quiet : \
+  -np 1 -x OMP_NUM_THREADS=2 "$bin" run spec.toml -o het.h5 --quiet >het.log 2>&1
+rc=$?
+if ((rc != 0)); then bad "ranks with 1 and 2 threads" "exit $rc: $(tail -3 het.log)"
+elif same "ranks with 1 and 2 threads" het.h5 reference.h5; then ok "ranks with 1 and 2 threads (MPMD): every cell, the 1-process bits"; fi
+printf 'rank 0=localhost slot=0\nrank 1=localhost slot=0-1\n' >rankfile
+if (env -u OMP_NUM_THREADS mpirun -np 2 --rankfile rankfile "$bin" run spec.toml -o rankfile.h5 \
+      --quiet >rankfile.log 2>&1); then
+  same "rankfile: 1 and 2 cores" rankfile.h5 reference.h5 && ok "rankfile with 1 and 2 cores per rank: the 1-process bits"
+elif grep -qi "rankfile\|slot\|not available\|bind" rankfile.log; then
+  echo "note  rankfile: this machine's Open MPI refused the rankfile: $(head -2 rankfile.log | tr '\n' ' ')"
+else
+  bad "rankfile: 1 and 2 cores" "$(tail -3 rankfile.log)"
+fi
+
+# 2a. A journal from another build is never mixed in: refused, with the build named.
+CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o build.h5 --quiet 2>/dev/null
+sed -i 's/^run .*/run 0123456789abcdef/; s/^build .*/build 0.1.0 build-id 00ff/' build.h5.journal/manifest
+"$bin" run spec.toml -o build.h5 --resume --quiet >build.log 2>&1
+status_and_message "journal of another build" 2 $? build.log "another build of contactsweep" &&
+  [[ ! -e build.h5 ]] && ok "a journal left by another build is refused (exit 2), not resumed"
+# ...and one of the old format, which did not identify its build at all.
+mkdir -p old.h5.journal && printf 'contactsweep journal\nversion 0.1.0\npoints 16637\n' >old.h5.journal/manifest
+cp build.h5.journal/block_0.bin old.h5.journal/
+"$bin" run spec.toml -o old.h5 --resume --quiet >old.log 2>&1
+status_and_message "journal of the old format" 2 $? old.log "older contactsweep" &&
+  ok "an old-format journal is refused (exit 2)"
+"$bin" run spec.toml -o old.h5 --force --quiet && same "old journal discarded with --force" old.h5 reference.h5 &&
+  ok "--force discards it and computes afresh"
+
+# 2b. A second run on an output whose run is alive is refused; the first finishes untouched.
+"$bin" run spec.toml -o live.h5 --quiet "${long[@]}" 2>live_a.log &
+run_a=$!
+if wait_for_blocks live.h5 1; then
+  "$bin" run spec.toml -o live.h5 --force --quiet --set scene.gamma=0.2 >live_b.log 2>&1
+  status_and_message "second run on a live output" 2 $? live_b.log "another run is writing this output" &&
+    ok "a second run (--force, another spec) on a live run's output is refused (exit 2)"
+  "$bin" run spec.toml -o live.h5 --resume --quiet "${long[@]}" >live_c.log 2>&1
+  status_and_message "resume of a live run" 2 $? live_c.log "another run is writing this output" &&
+    ok "--resume of a run that is still alive is refused (exit 2)"
+else
+  bad "second run on a live output" "the first run journaled no block within 60 s"
+fi
+wait "$run_a"
+rc=$?
+((rc == 0)) && same "the live run after the refusals" live.h5 long_reference.h5 &&
+  ok "the live run ends with exit 0 and its own bits"
+
+# 3. Disk full while the HDF5 file is written (after 0 bytes, mid-metadata, mid-data), on one
+# rank, on both, and on rank 0 of two only: exit 1 with a message, no temporary, journal kept,
+# and --resume gives the right file.
+fault=(-x "LD_PRELOAD=$shim" -x CONTACTSWEEP_FAULT_PATH=.h5.partial)
+for after in 0 40000 300000; do
+  out=full_$after.h5
+  env LD_PRELOAD="$shim" CONTACTSWEEP_FAULT_PATH=.h5.partial CONTACTSWEEP_FAULT_AFTER=$after \
+    timeout 120 "$bin" run spec.toml -o "$out" --quiet >"$out.log" 2>&1
+  rc=$?
+  if status_and_message "full disk in the HDF5 write after $after bytes" 1 $rc "$out.log" "cannot" &&
+     [[ ! -e $out && ! -e $out.partial && -d $out.journal ]]; then
+    "$bin" run spec.toml -o "$out" --resume --quiet && same "resume after a full disk" "$out" reference.h5 &&
+      ok "full disk in the HDF5 write after $after bytes: exit 1, journal kept, resumed to the right bits"
+  elif ((rc == 1)); then bad "full disk after $after bytes" "left: $(ls -d "$out"* | tr '\n' ' ')"; fi
+  for who in both rank0; do
+    out=full_${after}_np2_$who.h5
+    if [[ $who == both ]]; then
+      timeout 120 "${mpirun[@]}" -np 2 "${fault[@]}" -x CONTACTSWEEP_FAULT_AFTER=$after "$bin" run \
+        spec.toml -o "$out" --quiet >"$out.log" 2>&1
+    else
+      timeout 120 "${mpirun[@]}" -np 1 "${fault[@]}" -x CONTACTSWEEP_FAULT_AFTER=$after "$bin" run \
+        spec.toml -o "$out" --quiet : -np 1 "$bin" run spec.toml -o "$out" --quiet >"$out.log" 2>&1
+    fi
+    rc=$?
+    if ((rc == 124)); then bad "full disk, 2 ranks ($who), after $after bytes" "hang (killed after 120 s)"; continue; fi
+    if ((rc != 0)) && grep -qF "contactsweep: run-time failure" "$out.log" &&
+       [[ ! -e $out && ! -e $out.partial && -d $out.journal ]]; then
+      "${mpirun[@]}" -np 2 "$bin" run spec.toml -o "$out" --resume --quiet &&
+        same "resume after a full disk on 2 ranks" "$out" reference.h5 &&
+        ok "full disk in the HDF5 write on 2 ranks ($who) after $after bytes: no hang, exit $rc, resumed"
+    else
+      bad "full disk, 2 ranks ($who), after $after bytes" "exit $rc, left $(ls -d "$out"* | tr '\n' ' '): $(grep contactsweep "$out.log" | head -2)"
+    fi
+  done
+done
+# A real full disk: a tmpfs that holds the journal but not the file as well is refused up front.
+mkdir -p small
+if mount -t tmpfs -o size=600k tmpfs small 2>/dev/null; then
+  "$bin" run spec.toml -o small/a.h5 --quiet >small.log 2>&1
+  status_and_message "output and journal larger than the disk" 2 $? small.log "journal" &&
+    [[ -z $(ls small) ]] && ok "a disk with room for the file but not for the journal too: refused (exit 2), nothing written"
+  # A finished output on a full disk: --resume says it is complete (no resource check first).
+  cp reference.h5 small/done.h5 && dd if=/dev/zero of=small/filler bs=4k 2>/dev/null
+  "$bin" run spec.toml -o small/done.h5 --resume --quiet &&
+    ok "--resume of a finished output on a full disk: exit 0" || bad "resume of a finished output on a full disk" "exit $?"
+  umount small
+else
+  echo "note  tmpfs cases not run (mounting needs root)"
+fi
+
+# 4. Bad input seen by only some ranks: every rank exits 2, rank 0 says why, no hang.
+timeout 120 "${mpirun[@]}" -np 1 "$bin" run spec.toml -o budget.h5 : \
+  -np 1 -x CONTACTSWEEP_MEMORY_LIMIT=64K "$bin" run spec.toml -o budget.h5 >budget.log 2>&1
+rc=$?
+status_and_message "memory budget on rank 1 only" 2 $rc budget.log "rank 1" &&
+  [[ ! -e budget.h5 && ! -e budget.h5.journal ]] && ok "a budget only rank 1 fails: every rank exits 2, rank 0 names rank 1, nothing written"
+# A spec only rank 0 can read (mpirun gives stdin to rank 0 alone): it is broadcast.
+timeout 120 "${mpirun[@]}" -np 2 "$bin" run /dev/stdin -o stdin.h5 --quiet <spec.toml >stdin.log 2>&1
+rc=$?
+((rc == 0)) && same "spec from /dev/stdin under mpirun" stdin.h5 reference.h5 &&
+  ok "a spec on /dev/stdin under mpirun -np 2: read by rank 0, the right file"
+((rc == 0)) || bad "spec from /dev/stdin under mpirun" "exit $rc: $(tail -2 stdin.log)"
+
+# 5. A failed save stops the run at once, on every rank, and leaves no temporary files. The
+# long run has 65 blocks; a save fails after ~2 blocks' bytes, on the only rank, then on rank 1
+# of 2 (rank 0's disk is fine: it must stop because rank 1 failed). Rank 0 learns of it within
+# two rounds of the failure watch, a few blocks; without the stop it saved ~63.
+for ranks in 1 2; do
+  out=save_np$ranks.h5
+  failing=(-x "LD_PRELOAD=$shim" -x CONTACTSWEEP_FAULT_PATH=.bin.tmp -x CONTACTSWEEP_FAULT_AFTER=25000)
+  if ((ranks == 1)); then
+    timeout 120 "${mpirun[@]}" -np 1 "${failing[@]}" "$bin" run spec.toml -o "$out" --quiet "${long[@]}" >"$out.log" 2>&1
+  else
+    timeout 120 "${mpirun[@]}" -np 1 "$bin" run spec.toml -o "$out" --quiet "${long[@]}" : \
+      -np 1 "${failing[@]}" "$bin" run spec.toml -o "$out" --quiet "${long[@]}" >"$out.log" 2>&1
+  fi
+  rc=$?
+  saved=$(blocks_in "$out")
+  tmps=$(ls "$out".journal 2>/dev/null | grep -c '\.tmp$')
+  if ((rc == 124)); then bad "failed save, $ranks rank(s)" "hang"
+  elif ((rc == 0)); then bad "failed save, $ranks rank(s)" "exit 0"
+  elif ((tmps > 0)); then bad "failed save, $ranks rank(s)" "$tmps .tmp files left"
+  elif ((saved > 16)); then bad "failed save, $ranks rank(s)" "$saved of 65 blocks saved: the run went on after the failure"
+  elif ! grep -qF "cannot write" "$out.log"; then bad "failed save, $ranks rank(s)" "no message: $(tail -2 "$out.log")"
+  else
+    "$bin" run spec.toml -o "$out" --resume --quiet "${long[@]}" && same "resume after a failed save" "$out" long_reference.h5 &&
+      ok "a failed save on $ranks rank(s) stops every rank ($saved of 65 blocks saved), no .tmp left, resumed"
+  fi
+done
+
+# 7. stderr that cannot be written never aborts a run.
+"$bin" run spec.toml -o devfull.h5 2>/dev/full
+rc=$?
+((rc == 0)) && same "stderr on /dev/full" devfull.h5 reference.h5 && ok "stderr on /dev/full: exit 0, the right file"
+((rc == 0)) || bad "stderr on /dev/full" "exit $rc"
+"$bin" run spec.toml -o devfull_bad.h5 --set integrator.h=0 2>/dev/full
+rc=$?
+((rc == 2)) && ok "bad input with stderr on /dev/full: exit 2, no abort" || bad "bad input with stderr on /dev/full" "exit $rc"
+
+# 8. An output that appears during a run is not replaced without --force.
+"$bin" run spec.toml -o appear.h5 --quiet "${long[@]}" >appear.log 2>&1 &
+run_a=$!
+if wait_for_blocks appear.h5 1; then
+  echo "someone else's file" >appear.h5
+  wait "$run_a"
+  rc=$?
+  if status_and_message "output appeared during the run" 1 $rc appear.log "appeared" &&
+     [[ $(cat appear.h5) == "someone else's file" && -d appear.h5.journal && ! -e appear.h5.partial ]]; then
+    "$bin" run spec.toml -o appear.h5 --resume --quiet "${long[@]}" >appear2.log 2>&1
+    status_and_message "resume while the stranger is there" 2 $? appear2.log "move it away" &&
+      mv appear.h5 stranger.h5 && "$bin" run spec.toml -o appear.h5 --resume --quiet "${long[@]}" &&
+      same "resume after moving the stranger away" appear.h5 long_reference.h5 &&
+      ok "an output that appeared mid-run is kept (exit 1), then --resume finishes from the journal"
+  fi
+else
+  wait "$run_a"; bad "output appeared during the run" "no block journaled within 60 s"
+fi
+
+# 9. A --force run over an existing output, killed, resumes by its own spec; another spec's
+# --resume neither finishes it nor deletes its journal.
+"$bin" run spec.toml -o forced.h5 --quiet --set scene.gamma=0.2
+CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o forced.h5 --force --quiet 2>/dev/null
+"$bin" run spec.toml -o forced.h5 --resume --set scene.gamma=0.2 >forced_other.log 2>&1
+rc=$?
+if ((rc == 0)) && grep -q "already complete" forced_other.log && (($(blocks_in forced.h5) >= 3)); then
+  ok "--resume with the old output's spec: complete, and the forced run's journal is kept"
+else
+  bad "another spec's --resume" "exit $rc, $(blocks_in forced.h5) blocks left: $(cat forced_other.log)"
+fi
+"$bin" run spec.toml -o forced.h5 --resume --quiet && same "resume of a forced run" forced.h5 reference.h5 &&
+  ok "a killed --force run resumes by its own spec and replaces the old output"
+
+# 11. A kill between the journal's creation and its manifest: --resume starts afresh.
+mkdir -p early.h5.journal && : >early.h5.journal/lock && : >early.h5.journal/manifest.tmp
+"$bin" run spec.toml -o early.h5 --resume --quiet && same "journal without a manifest" early.h5 reference.h5 &&
+  ok "a journal holding no block (killed before its manifest): --resume starts afresh"
+mkdir -p damaged.h5.journal && echo "contactsweep journal 2" >damaged.h5.journal/manifest
+"$bin" run spec.toml -o damaged.h5 --resume --quiet && same "damaged manifest, no block" damaged.h5 reference.h5 &&
+  ok "a damaged manifest with no block: --resume starts afresh"
+
+# 13. Smaller: -o '', a directory, a device, and the resume summary.
+"$bin" run spec.toml -o '' >empty.log 2>&1
+status_and_message "-o ''" 2 $? empty.log "output path is empty" && ok "-o '' is refused (exit 2)"
+mkdir -p adir.h5
+"$bin" run spec.toml -o adir.h5 >dir.log 2>&1
+status_and_message "output is a directory" 2 $? dir.log "is a directory" && ok "an output that is a directory: exit 2, named"
+"$bin" run spec.toml -o /dev/null --force >dev.log 2>&1
+status_and_message "--force over a device" 2 $? dev.log "not a regular file" && [[ -c /dev/null ]] &&
+  ok "--force over a device node: refused (exit 2), the device kept"
+CONTACTSWEEP_TEST_KILL=block:5 "$bin" run spec.toml -o summary.h5 2>/dev/null
+"$bin" run spec.toml -o summary.h5 --resume >summary.log 2>&1
+grep -q "points loaded from the journal" summary.log && ok "the resume summary counts integrated points apart from loaded ones" ||
+  bad "resume summary" "$(cat summary.log)"
+
+echo "$passed passed, $failed failed"
+((failed == 0))
