@@ -14,15 +14,17 @@ class ProgressReporter {
  public:
   ProgressReporter(std::int64_t local_points, std::int64_t total_points, std::int64_t steps,
                    bool enabled);
-  // Thread-safe: called after each finished block.
-  void add(std::int64_t points);
+  // Thread-safe: called after each finished block; `computed` is false for a block a resume
+  // loaded from the journal, which counts as done but not in the rate.
+  void add(std::int64_t points, bool computed);
 
  private:
-  void report(std::int64_t done);
+  void report(std::int64_t done, std::int64_t computed);
   using Clock = std::chrono::steady_clock;
   std::int64_t local_points_, total_points_, steps_;
   bool enabled_;
   std::atomic<std::int64_t> done_{0};
+  std::atomic<std::int64_t> computed_{0};
   std::mutex mutex_;
   Clock::time_point start_ = Clock::now(), last_ = Clock::now();
 };

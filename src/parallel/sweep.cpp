@@ -333,13 +333,14 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       try {
         const std::int64_t n = blocks[i].range.end - blocks[i].range.begin;
         results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
-        if (decision.start != Start::resume || !journal.load(*results[i])) {
+        const bool loaded = decision.start == Start::resume && journal.load(*results[i]);
+        if (!loaded) {
           run_block(*blocks[i].plan, *results[i]);
           journal.save(*results[i]);
           computed += n;
           test_kill_point("block", c.rank, ++saved);
         }
-        progress.add(n);
+        progress.add(n, !loaded);
       } catch (...) {
 #pragma omp critical(sweep_failure)
         if (!failure) failure = std::current_exception();

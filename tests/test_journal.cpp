@@ -1,0 +1,183 @@
+// The journal keeps a run's finished blocks for --resume, and only that run's: blocks carry the
+// run's identity, the manifest records who made the journal, and a live run holds a lock.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/run_spec.hpp"
+#include "parallel/journal.hpp"
+#include "parallel/run_identity.hpp"
+
+namespace cs {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JournalTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("contactsweep_journal_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    output_ = (dir_ / "out.h5").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::vector<ColumnSpec> columns() {
+    return {{DatasetSpec{"final_q"}, 1}, {DatasetSpec{"traj_q"}, 3}};
+  }
+  static BlockResults block(std::int64_t begin, std::int64_t end, double seed) {
+    BlockResults b({begin, end}, columns());
+    for (auto& column : b.columns)
+      for (std::size_t i = 0; i < column.size(); ++i) column[i] = seed + static_cast<double>(i);
+    return b;
+  }
+  JournalManifest manifest(const std::string& run_id) const {
+    return {run_id, build_identity(), 100, 10, false, "[scene]\nname = \"double_well\"\n"};
+  }
+
+  fs::path dir_;
+  std::string output_;
+};
+
+TEST_F(JournalTest, SavedBlockComesBackBitForBit) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  const BlockResults saved = block(10, 20, 0.1);
+  journal.save(saved);
+  BlockResults loaded({10, 20}, columns());
+  ASSERT_TRUE(journal.load(loaded));
+  EXPECT_EQ(loaded.columns, saved.columns);
+}
+
+TEST_F(JournalTest, BlockOfAnotherRunIsNeverLoaded) {
+  {
+    Journal a(output_, "00000000000000aa");
+    a.lock();
+    a.start(manifest("00000000000000aa"));
+    a.save(block(0, 10, 1.0));
+  }
+  Journal b(output_, "00000000000000bb");
+  BlockResults loaded({0, 10}, columns());
+  EXPECT_FALSE(b.load(loaded));
+}
+
+TEST_F(JournalTest, DamagedOrMismatchedBlockIsComputedAgain) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  journal.save(block(0, 10, 1.0));
+  BlockResults other_range({0, 11}, columns());
+  EXPECT_FALSE(journal.load(other_range));
+  const std::string path = journal.directory() + "/block_0.bin";
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(60);
+    f.put('\x7f');  // one byte of the payload
+  }
+  BlockResults loaded({0, 10}, columns());
+  EXPECT_FALSE(journal.load(loaded));
+}
+
+TEST_F(JournalTest, ManifestRecordsTheRunExactly) {
+  Journal journal(output_, "0123456789abcdef");
+  journal.lock();
+  JournalManifest m = manifest("0123456789abcdef");
+  m.replaces_output = true;
+  m.spec_text = "title = \"two\nlines\"\n";
+  journal.start(m);
+  journal.save(block(0, 10, 1.0));
+  const JournalContents c = journal.inspect();
+  ASSERT_TRUE(c.manifest) << c.manifest_problem;
+  EXPECT_EQ(c.manifest->run_id, m.run_id);
+  EXPECT_EQ(c.manifest->build, build_identity());
+  EXPECT_EQ(c.manifest->points, 100);
+  EXPECT_EQ(c.manifest->block_size, 10);
+  EXPECT_TRUE(c.manifest->replaces_output);
+  EXPECT_EQ(c.manifest->spec_text, m.spec_text);
+  EXPECT_EQ(c.block_files, 1);
+}
+
+TEST_F(JournalTest, OldFormatAndDamagedManifestsAreNamed) {
+  fs::create_directories(output_ + ".journal");
+  std::ofstream(output_ + ".journal/manifest") << "contactsweep journal\nversion 0.1.0\n";
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  JournalContents c = journal.inspect();
+  EXPECT_FALSE(c.manifest);
+  EXPECT_NE(c.manifest_problem.find("older contactsweep"), std::string::npos);
+  std::ofstream(output_ + ".journal/manifest") << "contactsweep journal 2\nrun 12\n";
+  c = journal.inspect();
+  EXPECT_FALSE(c.manifest);
+  EXPECT_NE(c.manifest_problem.find("damaged"), std::string::npos);
+}
+
+// Open-file-description locks conflict between two opens even within one process, so a second
+// Journal here stands for a second run.
+TEST_F(JournalTest, SecondRunIsRefusedWhileTheFirstHoldsTheLock) {
+  Journal first(output_, "00000000000000aa");
+  first.lock();
+  Journal second(output_, "00000000000000bb");
+  try {
+    second.lock();
+    FAIL() << "a second run took the lock";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("another run is writing this output"), std::string::npos) << message;
+    EXPECT_NE(message.find("pid " + std::to_string(::getpid())), std::string::npos) << message;
+  }
+}
+
+TEST_F(JournalTest, LockOfAFinishedRunIsFree) {
+  {
+    Journal first(output_, "00000000000000aa");
+    first.lock();
+    first.start(manifest("00000000000000aa"));
+  }  // the process "ended": its lock is released, its journal stays
+  EXPECT_TRUE(fs::exists(output_ + ".journal/manifest"));
+  Journal second(output_, "00000000000000aa");
+  EXPECT_NO_THROW(second.lock());
+}
+
+TEST_F(JournalTest, StartDropsAnEarlierRunAndRemoveLeavesNothing) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  journal.save(block(0, 10, 1.0));
+  journal.start(manifest("00000000000000aa"));
+  EXPECT_EQ(journal.inspect().block_files, 0);
+  EXPECT_TRUE(fs::exists(journal.directory() + "/lock"));  // still held
+  journal.remove();
+  EXPECT_FALSE(fs::exists(journal.directory()));
+}
+
+TEST_F(JournalTest, RunRefusedBeforeItStartedLeavesNoDirectory) {
+  {
+    Journal journal(output_, "00000000000000aa");
+    journal.lock();
+  }
+  EXPECT_FALSE(fs::exists(output_ + ".journal"));
+}
+
+TEST(RunIdentity, DependsOnSpecPointsAndBlocks) {
+  const std::string id = run_identity("a = 1\n", 100, 10);
+  EXPECT_EQ(id.size(), 16u);
+  EXPECT_EQ(id, run_identity("a = 1\n", 100, 10));
+  EXPECT_NE(id, run_identity("a = 2\n", 100, 10));
+  EXPECT_NE(id, run_identity("a = 1\n", 101, 10));
+  EXPECT_NE(id, run_identity("a = 1\n", 100, 11));
+}
+
+TEST(RunIdentity, BuildIsTheExecutablesBuildId) {
+  // The linker's note (CMake asks for --build-id); the fallback hash would say exe-fnv1a.
+  EXPECT_NE(build_identity().find("build-id "), std::string::npos) << build_identity();
+}
+
+}  // namespace
+}  // namespace cs
