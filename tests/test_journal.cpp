@@ -29,7 +29,10 @@ class JournalTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   static std::vector<ColumnSpec> columns() {
-    return {{DatasetSpec{"final_q"}, 1}, {DatasetSpec{"traj_q"}, 3}};
+    DatasetSpec final_q, traj_q;
+    final_q.name = "final_q";
+    traj_q.name = "traj_q";
+    return {{final_q, 1}, {traj_q, 3}};
   }
   static BlockResults block(std::int64_t begin, std::int64_t end, double seed) {
     BlockResults b({begin, end}, columns());

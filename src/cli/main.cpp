@@ -98,11 +98,12 @@ int main(int argc, char** argv) {
     if (size > 1) MPI_Abort(MPI_COMM_WORLD, 1);
     status = 1;
   }
-  if (cs::hdf5_files_left_open()) {
-    // Every rank agreed on the failure that left it open (io/output_file.hpp); the journal
-    // holds the results and the partial file is gone. Finalizing would crash inside HDF5.
-    std::_Exit(status);
-  }
+  // Rank 0 writes the file alone; every rank agreed on the failure that left it open
+  // (io/output_file.hpp), the journal holds the results and the partial file is gone.
+  // Finalizing would crash inside HDF5, so all ranks end together without it.
+  int left_open = cs::hdf5_files_left_open() ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &left_open, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (left_open) std::_Exit(status);
   MPI_Finalize();
   return status;
 }

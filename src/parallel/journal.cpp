@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/log.hpp"
 #include "io/run_spec.hpp"
 
 namespace cs {
@@ -25,6 +26,7 @@ constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '2'};
 constexpr std::size_t kRunIdBytes = 16;  // run_identity() is 16 hex digits
 constexpr const char* kManifestHeader = "contactsweep journal 2";
 constexpr const char* kOldManifestHeader = "contactsweep journal";  // format 1: no identity
+constexpr std::int64_t kMaxSpecBytes = std::int64_t{1} << 26;  // larger: a damaged manifest
 
 // FNV-1a over the payload: catches a torn or truncated block file.
 std::uint64_t checksum(const void* data, std::size_t bytes, std::uint64_t h = 1469598103934665603ull) {
@@ -118,7 +120,8 @@ std::optional<JournalManifest> read_manifest(const std::string& path, std::strin
       !read_field(in, "build", m.build) || !read_number(in, "points", m.points) ||
       !read_number(in, "block_size", m.block_size) ||
       !read_number(in, "replaces_output", replaces) ||
-      !read_number(in, "spec_bytes", spec_bytes) || spec_bytes < 0) {
+      !read_number(in, "spec_bytes", spec_bytes) || spec_bytes < 0 ||
+      spec_bytes > kMaxSpecBytes) {
     problem = "its manifest " + path + " is damaged";
     return std::nullopt;
   }
@@ -158,13 +161,12 @@ Journal::Journal(const std::string& output_path, std::string run_id)
     : directory_(output_path + ".journal"), run_id_(std::move(run_id)) {}
 
 Journal::~Journal() {
-  if (lock_fd_ < 0) return;
   if (!started_ && created_directory_) {  // refused before it began: leave no trace
     std::error_code ignored;
     fs::remove(directory_ + "/lock", ignored);
     fs::remove(directory_, ignored);
   }
-  ::close(lock_fd_);
+  if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
 void Journal::lock() {
@@ -179,6 +181,7 @@ void Journal::lock() {
     if (fs::create_directory(directory_, error)) created_directory_ = true;
     if (error) refuse(error.message());
     int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0 && errno == ENOENT) continue;  // a finishing run removed the directory: again
     if (fd < 0) refuse(path + ": " + errno_text(errno));
     if (int failure = try_lock(fd); failure != 0) {
       std::string holder(256, '\0');
@@ -190,7 +193,8 @@ void Journal::lock() {
                          (holder.empty() ? std::string("its lock: ") + path : holder) +
                          "); wait for it to end, or choose another output");
       if (failure == ENOLCK) {  // a file system without locks (an NFS mount without lockd)
-        lock_fd_ = -1;
+        log("contactsweep: warning: the file system of '{}' cannot lock files; nothing stops a "
+            "second run on this output while this one lives", directory_);
         return;
       }
       refuse(path + ": " + errno_text(failure));
@@ -217,12 +221,14 @@ JournalContents Journal::inspect() const {
   contents.directory_exists = fs::is_directory(directory_, error);
   if (!contents.directory_exists) return contents;
   contents.manifest = read_manifest(directory_ + "/manifest", contents.manifest_problem);
-  for (const auto& entry : fs::directory_iterator(directory_, error)) {
-    const std::string name = entry.path().filename().string();
+  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
+       it.increment(error)) {
+    const std::string name = it->path().filename().string();
     if (name == "lock") continue;
-    if (name.rfind("block_", 0) == 0 && entry.path().extension() == ".bin") ++contents.block_files;
-    const auto size = entry.file_size(error);
-    if (!error) contents.bytes += static_cast<std::int64_t>(size);
+    if (name.rfind("block_", 0) == 0 && it->path().extension() == ".bin") ++contents.block_files;
+    std::error_code size_error;
+    const auto size = it->file_size(size_error);
+    if (!size_error) contents.bytes += static_cast<std::int64_t>(size);
   }
   return contents;
 }
@@ -299,8 +305,11 @@ bool Journal::load(BlockResults& block) const {
 
 void Journal::remove() {
   std::error_code error;
-  for (const auto& entry : fs::directory_iterator(directory_, error))
-    if (entry.path().filename() != "lock") fs::remove_all(entry.path(), error);
+  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
+       it.increment(error)) {
+    std::error_code ignored;
+    if (it->path().filename() != "lock") fs::remove_all(it->path(), ignored);
+  }
   fs::remove(directory_ + "/lock", error);
   fs::remove(directory_, error);
   if (lock_fd_ >= 0) ::close(lock_fd_);

@@ -53,54 +53,47 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
   return layout;
 }
 
-// One rank's values of one column: its point ranges and their values back to back.
+// One block's values of one column, as rank 0 receives it.
 struct ColumnPiece {
-  std::vector<PointRange> ranges;
+  PointRange range;
   std::vector<double> values;
 };
 
-ColumnPiece piece_of(const std::vector<std::unique_ptr<BlockResults>>& results, std::size_t k) {
-  ColumnPiece piece;
+// MPI counts are int: long buffers go in pieces of at most 2^27 elements.
+constexpr std::size_t kMessageElements = std::size_t{1} << 27;
+
+// Block by block, straight from the results: no rank holds a second copy of a column (the
+// memory check counts the results once).
+void send_column(const std::vector<std::unique_ptr<BlockResults>>& results, std::size_t k,
+                 MPI_Comm comm) {
+  auto blocks = static_cast<std::int64_t>(results.size());
+  MPI_Send(&blocks, 1, MPI_INT64_T, 0, 0, comm);
   for (const auto& block : results) {
-    piece.ranges.push_back(block->range);
-    const auto& column = block->columns[k];
-    piece.values.insert(piece.values.end(), column.begin(), column.end());
+    const std::vector<double>& values = block->columns[k];
+    std::int64_t header[3] = {block->range.begin, block->range.end,
+                              static_cast<std::int64_t>(values.size())};
+    MPI_Send(header, 3, MPI_INT64_T, 0, 0, comm);
+    for (std::size_t done = 0; done < values.size(); done += kMessageElements)
+      MPI_Send(values.data() + done,
+               static_cast<int>(std::min(kMessageElements, values.size() - done)), MPI_DOUBLE,
+               0, 0, comm);
   }
-  return piece;
 }
 
-// MPI counts are int: long buffers go in pieces of at most 2^27 elements.
-constexpr std::int64_t kMessageElements = std::int64_t{1} << 27;
-
-void send_piece(const ColumnPiece& piece, MPI_Comm comm) {
-  std::int64_t sizes[2] = {static_cast<std::int64_t>(piece.ranges.size()),
-                           static_cast<std::int64_t>(piece.values.size())};
-  MPI_Send(sizes, 2, MPI_INT64_T, 0, 0, comm);
-  static_assert(sizeof(PointRange) == 2 * sizeof(std::int64_t));
-  for (std::int64_t done = 0; done < 2 * sizes[0]; done += kMessageElements)
-    MPI_Send(reinterpret_cast<const std::int64_t*>(piece.ranges.data()) + done,
-             static_cast<int>(std::min(kMessageElements, 2 * sizes[0] - done)), MPI_INT64_T, 0,
-             0, comm);
-  for (std::int64_t done = 0; done < sizes[1]; done += kMessageElements)
-    MPI_Send(piece.values.data() + done,
-             static_cast<int>(std::min(kMessageElements, sizes[1] - done)), MPI_DOUBLE, 0, 0,
-             comm);
+std::int64_t receive_block_count(int from, MPI_Comm comm) {
+  std::int64_t blocks = 0;
+  MPI_Recv(&blocks, 1, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
+  return blocks;
 }
 
 ColumnPiece receive_piece(int from, MPI_Comm comm) {
-  std::int64_t sizes[2];
-  MPI_Recv(sizes, 2, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
-  ColumnPiece piece;
-  piece.ranges.resize(static_cast<std::size_t>(sizes[0]));
-  piece.values.resize(static_cast<std::size_t>(sizes[1]));
-  for (std::int64_t done = 0; done < 2 * sizes[0]; done += kMessageElements)
-    MPI_Recv(reinterpret_cast<std::int64_t*>(piece.ranges.data()) + done,
-             static_cast<int>(std::min(kMessageElements, 2 * sizes[0] - done)), MPI_INT64_T,
-             from, 0, comm, MPI_STATUS_IGNORE);
-  for (std::int64_t done = 0; done < sizes[1]; done += kMessageElements)
+  std::int64_t header[3];
+  MPI_Recv(header, 3, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
+  ColumnPiece piece{{header[0], header[1]}, std::vector<double>(static_cast<std::size_t>(header[2]))};
+  for (std::size_t done = 0; done < piece.values.size(); done += kMessageElements)
     MPI_Recv(piece.values.data() + done,
-             static_cast<int>(std::min(kMessageElements, sizes[1] - done)), MPI_DOUBLE, from, 0,
-             comm, MPI_STATUS_IGNORE);
+             static_cast<int>(std::min(kMessageElements, piece.values.size() - done)),
+             MPI_DOUBLE, from, 0, comm, MPI_STATUS_IGNORE);
   return piece;
 }
 
@@ -112,14 +105,16 @@ std::vector<T> converted(const std::vector<double>& values) {
   return out;
 }
 
-void write_piece(OutputFile& file, const DatasetSpec& dataset, const ColumnPiece& piece) {
+void write_values(OutputFile& file, const DatasetSpec& dataset, PointRange range,
+                  const std::vector<double>& values) {
+  const std::vector<PointRange> ranges{range};
   switch (dataset.type) {
-    case ElementType::float64: file.write(dataset.name, piece.ranges, piece.values.data()); break;
+    case ElementType::float64: file.write(dataset.name, ranges, values.data()); break;
     case ElementType::int8:
-      file.write(dataset.name, piece.ranges, converted<std::int8_t>(piece.values).data());
+      file.write(dataset.name, ranges, converted<std::int8_t>(values).data());
       break;
     case ElementType::uint8:
-      file.write(dataset.name, piece.ranges, converted<std::uint8_t>(piece.values).data());
+      file.write(dataset.name, ranges, converted<std::uint8_t>(values).data());
       break;
   }
 }
@@ -152,13 +147,16 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec& dataset = plan.columns[k].dataset;
     if (rank != 0) {
-      send_piece(piece_of(results, k), comm);
+      send_column(results, k, comm);
       continue;
     }
-    attempt([&] { write_piece(*file, dataset, piece_of(results, k)); });
+    for (const auto& block : results)
+      attempt([&] { write_values(*file, dataset, block->range, block->columns[k]); });
     for (int from = 1; from < ranks; ++from) {
-      const ColumnPiece piece = receive_piece(from, comm);
-      attempt([&] { write_piece(*file, dataset, piece); });
+      for (std::int64_t b = receive_block_count(from, comm); b > 0; --b) {
+        const ColumnPiece piece = receive_piece(from, comm);
+        attempt([&] { write_values(*file, dataset, piece.range, piece.values); });
+      }
     }
   }
   if (rank == 0) {

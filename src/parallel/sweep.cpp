@@ -142,6 +142,10 @@ void check_output_path(const SweepOptions& options) {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::file_status status = fs::status(options.output, error);
+  if (fs::is_symlink(fs::symlink_status(options.output, error)) && !fs::exists(status))
+    throw InputError("output '" + options.output + "' is a symbolic link to nothing ('" +
+                     fs::read_symlink(options.output, error).string() +
+                     "'); remove it or name another file");
   if (fs::is_directory(status))
     throw InputError("output '" + options.output + "' is a directory; name a file, e.g. -o " +
                      (fs::path(options.output) / "map.h5").string());
@@ -159,6 +163,7 @@ void check_output_path(const SweepOptions& options) {
 // Rank 0 only, with the journal locked. Throws InputError when the user must choose.
 Decision decide_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
                       const std::string& run_id) {
+  if (options.force) return {Start::fresh, true, false, 0};
   const JournalContents j = journal.inspect();
   const bool output_exists = std::filesystem::exists(options.output);
   auto output_made_by_this_spec = [&] {
@@ -166,10 +171,12 @@ Decision decide_start(const RunSpec& spec, const SweepOptions& options, Journal&
     return text && *text == spec.spec_text;
   };
   const std::string saved = fmt::format("{} block(s) saved", j.block_files);
-  if (options.force) return {Start::fresh, true, false, 0};
 
   if (j.manifest && j.manifest->run_id == run_id) {  // this very run, interrupted
-    if (output_exists && output_made_by_this_spec())  // killed after its commit
+    // Killed after its commit, unless the run was started to replace that very file (--force
+    // over an output of the same spec, say from another build): then the file may be the old
+    // one, and finishing from the journal is the only safe reading.
+    if (output_exists && !j.manifest->replaces_output && output_made_by_this_spec())
       return {Start::complete, false, true, 0};
     if (!options.resume)
       throw InputError("an unfinished run of this spec left its journal in '" +
@@ -268,6 +275,16 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
   });
 }
 
+// Rank 0: the output is in place, so the run has succeeded whatever happens here.
+void remove_finished_journal(Journal& journal) {
+  try {
+    journal.remove();
+  } catch (const std::exception& e) {
+    log("contactsweep: warning: the output is complete but its journal '{}' could not be "
+        "removed: {}", journal.directory(), e.what());
+  }
+}
+
 // Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N][@RANK]): the process kills itself with SIGKILL at
 // a chosen point, so that tests can interrupt real runs deterministically. Stages: `block`
 // (after the N-th saved block of this rank), `write` (HDF5 file open, nothing committed),
@@ -304,7 +321,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   Journal journal(options.output, run_id);
   const Decision decision = agreed_start(spec, options, journal, run_id, c);
   if (decision.start == Start::complete) {
-    if (c.rank == 0 && decision.remove_journal) journal.remove();
+    if (c.rank == 0 && decision.remove_journal) remove_finished_journal(journal);
     summary.already_complete = true;
     return summary;
   }
@@ -362,14 +379,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
                 [&] { test_kill_point("write", c.rank); }},
                comm);
   test_kill_point("commit", c.rank);
-  if (c.rank == 0) {
-    try {
-      journal.remove();
-    } catch (const std::exception& e) {  // the output is in place: the run succeeded
-      log("contactsweep: warning: the output is complete but its journal '{}' could not be "
-          "removed: {}", journal.directory(), e.what());
-    }
-  }
+  if (c.rank == 0) remove_finished_journal(journal);
 
   std::int64_t counts[3] = {count_status(results, plan.map.status, LaneStatus::diverged),
                             count_status(results, plan.map.status, LaneStatus::breakdown),

@@ -98,26 +98,24 @@ static size_t total(const struct iovec* iov, int iovcnt) {
 }
 
 /* Vector writes fail whole or pass whole: a short vector write is rare enough not to model. */
-ssize_t writev(int fd, const struct iovec* iov, int iovcnt) {
-  REAL(writev);
+static int vector_refused(int fd, const struct iovec* iov, int iovcnt) {
   size_t want = total(iov, iovcnt);
   ssize_t n = allowed(fd, want);
-  if (n >= 0 && (size_t)n < want) { errno = fault_errno(); return -1; }
-  return n < 0 ? -1 : real_writev(fd, iov, iovcnt);
+  if (n >= 0 && (size_t)n < want) errno = fault_errno();
+  return n < 0 || (size_t)n < want;
+}
+
+ssize_t writev(int fd, const struct iovec* iov, int iovcnt) {
+  REAL(writev);
+  return vector_refused(fd, iov, iovcnt) ? -1 : real_writev(fd, iov, iovcnt);
 }
 
 ssize_t pwritev(int fd, const struct iovec* iov, int iovcnt, off_t offset) {
   REAL(pwritev);
-  size_t want = total(iov, iovcnt);
-  ssize_t n = allowed(fd, want);
-  if (n >= 0 && (size_t)n < want) { errno = fault_errno(); return -1; }
-  return n < 0 ? -1 : real_pwritev(fd, iov, iovcnt, offset);
+  return vector_refused(fd, iov, iovcnt) ? -1 : real_pwritev(fd, iov, iovcnt, offset);
 }
 
 ssize_t pwritev64(int fd, const struct iovec* iov, int iovcnt, off64_t offset) {
   REAL(pwritev64);
-  size_t want = total(iov, iovcnt);
-  ssize_t n = allowed(fd, want);
-  if (n >= 0 && (size_t)n < want) { errno = fault_errno(); return -1; }
-  return n < 0 ? -1 : real_pwritev64(fd, iov, iovcnt, offset);
+  return vector_refused(fd, iov, iovcnt) ? -1 : real_pwritev64(fd, iov, iovcnt, offset);
 }
