@@ -240,6 +240,18 @@ fi
 "$bin" run spec.toml -o forced.h5 --resume --quiet && same "resume of a forced run" forced.h5 reference.h5 &&
   ok "a killed --force run resumes by its own spec and replaces the old output"
 
+# ...and a killed --force run over an output of the same spec (say, made by an older build) is
+# finished from its journal, never taken as complete from the old file.
+cp reference.h5 same.h5
+CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o same.h5 --force --quiet 2>/dev/null
+"$bin" run spec.toml -o same.h5 --resume >same.log 2>&1
+rc=$?
+if ((rc == 0)) && grep -q "points loaded from the journal" same.log && same "forced run, same spec" same.h5 reference.h5; then
+  ok "a killed --force run over the same spec's output resumes from its journal, not 'complete'"
+elif ((rc != 0)) || ! grep -q "points loaded from the journal" same.log; then
+  bad "forced run, same spec" "exit $rc: $(cat same.log)"
+fi
+
 # 11. A kill between the journal's creation and its manifest: --resume starts afresh.
 mkdir -p early.h5.journal && : >early.h5.journal/lock && : >early.h5.journal/manifest.tmp
 "$bin" run spec.toml -o early.h5 --resume --quiet && same "journal without a manifest" early.h5 reference.h5 &&

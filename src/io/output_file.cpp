@@ -99,7 +99,9 @@ std::string fmt_bytes(double bytes) {
 
 // Every rank learns whether all ranks succeeded; used before collective calls so that a local
 // failure turns into an exception on every rank rather than a deadlock.
+// MPI_COMM_NULL: a serial writer, nothing to agree with.
 bool all_ok(bool local_ok, MPI_Comm comm) {
+  if (comm == MPI_COMM_NULL) return local_ok;
   int ok = local_ok ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, comm);
   return ok != 0;
@@ -143,7 +145,7 @@ template <typename Action>
 void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& what,
                      Action&& action) {
   int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   std::string error;
   if (rank == 0) {
     try {
@@ -153,9 +155,11 @@ void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& 
     }
   }
   int length = static_cast<int>(error.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  error.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  if (comm != MPI_COMM_NULL) {
+    MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+    error.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  }
   if (length > 0) fail(path, what, error);
 }
 
@@ -579,7 +583,11 @@ PropertyHandle OutputFile::Impl::dataset_creation_properties(const std::vector<h
 void OutputFile::Impl::create_file(const FileLayout& layout) {
   const std::string what = "cannot create the file";
   PropertyHandle fapl(checker(H5Pcreate(H5P_FILE_ACCESS), what));
-  checker(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), what);
+  if (comm == MPI_COMM_NULL) {
+    checker(H5Pset_fapl_sec2(fapl.get()), what);
+  } else {
+    checker(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), what);
+  }
   PropertyHandle fcpl(checker(H5Pcreate(H5P_FILE_CREATE), what));
   checker(H5Pset_obj_track_times(fcpl.get(), false), what);  // root group
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
@@ -691,7 +699,7 @@ void OutputFile::Impl::abandon() noexcept {
     // now; a file it failed to close stays open inside HDF5 (main.cpp then skips MPI_Finalize,
     // where HDF5 would try again and crash).
     if (rank == 0) ::truncate(partial_path.c_str(), 0);
-    MPI_Barrier(comm);
+    if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
     flush();
   }
   close_all();
@@ -700,7 +708,7 @@ void OutputFile::Impl::abandon() noexcept {
     std::error_code ignored;
     std::filesystem::remove(partial_path, ignored);
   }
-  MPI_Barrier(comm);  // no rank returns while the temporary can still be seen
+  if (comm != MPI_COMM_NULL) MPI_Barrier(comm);  // no rank returns while the temporary shows
 }
 
 OutputFile::Impl::~Impl() {
@@ -742,7 +750,9 @@ void OutputFile::Impl::create(const FileLayout& layout) {
 
   collective_transfer =
       PropertyHandle(checker(H5Pcreate(H5P_DATASET_XFER), "cannot set up writes"));
-  checker(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE), "cannot set up collective writes");
+  if (comm != MPI_COMM_NULL)
+    checker(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE),
+            "cannot set up collective writes");
 
   create_file(layout);
   int dim_id = 0;
@@ -799,8 +809,10 @@ OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, 
   impl_->partial_path = final_path + ".partial";
   // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  MPI_Comm_dup(comm, &impl_->comm);
-  MPI_Comm_rank(impl_->comm, &impl_->rank);
+  if (comm != MPI_COMM_NULL) {
+    MPI_Comm_dup(comm, &impl_->comm);
+    MPI_Comm_rank(impl_->comm, &impl_->rank);
+  }
   impl_->checker = Checker(impl_->comm, impl_->partial_path);
   try {
     impl_->create(layout);

@@ -62,7 +62,9 @@ struct PointRange {
 class OutputFile {
  public:
   // Collective. Creates `final_path + ".partial"` (replacing a stale one) with every dataset.
-  // Throws std::runtime_error naming the path on failure.
+  // Throws std::runtime_error naming the path on failure. With `comm` = MPI_COMM_NULL the file
+  // is written by this process alone through HDF5's serial (sec2) driver, without any MPI
+  // call: how contactsweep writes its results (parallel/output_assembly.hpp says why).
   OutputFile(const std::string& final_path, const FileLayout& layout, MPI_Comm comm);
   ~OutputFile();  // closes and removes the temporary file unless commit() ran
   OutputFile(const OutputFile&) = delete;

@@ -1,6 +1,6 @@
 // Assembling the result file from every rank's blocks.
 //
-// Rank 0 writes the HDF5 file alone (on MPI_COMM_SELF); the other ranks send it their results one
+// Rank 0 writes the HDF5 file alone (HDF5 serial driver); the other ranks send it their results one
 // column at a time. Why not parallel HDF5's collective writes: HDF5 does not fail symmetrically.
 // A full disk met by one rank inside a collective HDF5 call (a chunk fill, a metadata flush)
 // makes that rank return an error while the others wait inside HDF5 for it, and the job hangs
