@@ -89,6 +89,27 @@ if (( $(grep -c "did you mean" "$work/stderr") != 1 )); then
   failed=$((failed + 1))
 fi
 
+# Listings need no MPI (main.cpp parses before MPI starts) but still print once under mpirun,
+# and a listing that cannot be written is a failure.
+scenes_once=$($mpiexec -np 2 "$bin" scenes </dev/null 2>/dev/null | grep -c "(paper scene")
+scenes_alone=$("$bin" scenes </dev/null | grep -c "(paper scene")
+if ((scenes_alone > 0 && scenes_once == scenes_alone)); then
+  echo "ok    scenes under mpirun -np 2: listed once"
+  passed=$((passed + 1))
+else
+  echo "FAIL  scenes under mpirun -np 2: $scenes_once scene lines, $scenes_alone alone"
+  failed=$((failed + 1))
+fi
+rc=0
+"$bin" methods >/dev/full 2>/dev/null || rc=$?
+if ((rc == 1)); then
+  echo "ok    methods > /dev/full: exit 1"
+  passed=$((passed + 1))
+else
+  echo "FAIL  methods > /dev/full: exit $rc, expected 1"
+  failed=$((failed + 1))
+fi
+
 # An output larger than the free disk: a 64 KiB file system for a ~200 KiB file.
 mkdir -p "$work/small_disk"
 if mount -t tmpfs -o size=64k tmpfs "$work/small_disk" 2>/dev/null; then
