@@ -9,6 +9,7 @@
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
 #include "parallel/agreement.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/sweep.hpp"
 #include "physics/scene_catalog.hpp"
 
@@ -18,16 +19,14 @@ namespace cs {
 // be readable there only) and every rank parses the same text; the parse also checks the grid
 // against each node's memory, so its outcome is agreed.
 RunSpec agreed_spec(const RunArguments& args, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = rank_of(comm);
   std::string text = agreed(comm, [&] { return rank == 0 ? read_spec_file(args.spec_path) : ""; });
   broadcast(comm, text);
   return agreed(comm, [&] { return parse_run_spec(text, args.overrides, args.spec_path); });
 }
 
 int run_command(const RunArguments& args, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = rank_of(comm);
   if (args.output_given && args.output.empty())
     throw InputError("-o: the output path is empty; name a file, e.g. -o basins.h5");
   RunSpec spec = agreed_spec(args, comm);

@@ -1,6 +1,6 @@
 // contactsweep: parallel ensemble and parameter-sweep runner for contact Hamiltonian dynamics.
-// The command line is parsed before MPI starts, and only `run` starts it: --version, --help,
-// `scenes` and `methods` cost milliseconds. Under a launcher only rank 0 prints.
+// MPI starts only for a run that an MPI launcher started (mpirun, srun): --version, --help,
+// `scenes`, `methods` and a run in one process never pay for it. Only rank 0 prints.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <mpi.h>
@@ -16,6 +16,7 @@
 #include "io/output_file.hpp"
 #include "io/run_spec.hpp"
 #include "parallel/agreement.hpp"
+#include "parallel/comm.hpp"
 #include "version.hpp"
 
 namespace {
@@ -84,22 +85,28 @@ Parsed parse_command_line(int argc, char** argv, int rank) {
   return parsed;
 }
 
-int run_with_mpi(int argc, char** argv, const cs::RunArguments& run) {
-  // Open MPI's default shared-file-pointer component for MPI-IO (sm) keeps a named semaphore per
-  // open file in /dev/shm: a process killed while holding it leaves it taken, and every later
-  // open of the same file name hangs. HDF5 never uses shared file pointers; a user's own
-  // setting of OMPI_MCA_sharedfp is kept.
-  ::setenv("OMPI_MCA_sharedfp", "^sm", 0);
-  // Funneled: OpenMP threads compute while the main thread alone talks MPI (sweep.cpp polls
-  // whether another rank failed between blocks).
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+// Whether an MPI launcher started this process: mpirun (Open MPI, MPICH's Hydra) and srun
+// leave these in every rank's environment. Without one the run is this process alone, and MPI
+// is never initialised: its singleton start-up (~0.4 s) would cost more than a small run.
+bool started_by_launcher() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(name) != nullptr) return true;
+  return false;
+}
+
+int run(int argc, char** argv, const cs::RunArguments& arguments) {
+  MPI_Comm comm = MPI_COMM_NULL;  // one process without MPI (parallel/comm.hpp)
+  if (started_by_launcher()) {
+    // Funneled: OpenMP threads compute while the main thread alone talks MPI (sweep.cpp polls
+    // whether another rank failed between blocks).
+    int provided = 0;
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+    comm = MPI_COMM_WORLD;
+  }
+  const int rank = cs::rank_of(comm), size = cs::size_of(comm);
   int status = 0;
   try {
-    status = cs::run_command(run, MPI_COMM_WORLD);
+    status = cs::run_command(arguments, comm);
   } catch (const cs::InputError& e) {  // every rank throws it together (parallel/agreement.hpp)
     if (rank == 0) cs::log("contactsweep: error: {}", e.what());
     status = 2;
@@ -108,16 +115,16 @@ int run_with_mpi(int argc, char** argv, const cs::RunArguments& run) {
     status = 1;
   } catch (const std::exception& e) {  // this rank alone: the others may wait for it forever
     cs::log("contactsweep: run-time failure on rank {}: {}", rank, e.what());
-    if (size > 1) MPI_Abort(MPI_COMM_WORLD, 1);
+    if (size > 1) MPI_Abort(comm, 1);
     status = 1;
   }
   // Rank 0 writes the file alone; every rank agreed on the failure that left it open
   // (io/output_file.hpp), the journal holds the results and the partial file is gone.
   // Finalizing would crash inside HDF5, so all ranks end together without it.
   int left_open = cs::hdf5_files_left_open() ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &left_open, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  cs::allreduce(comm, &left_open, 1, MPI_INT, MPI_MAX);
   if (left_open) std::_Exit(status);
-  MPI_Finalize();
+  if (!cs::serial(comm)) MPI_Finalize();
   return status;
 }
 
@@ -129,7 +136,7 @@ int main(int argc, char** argv) {
   try {
     const Parsed parsed = parse_command_line(argc, argv, launcher_rank());
     if (!parsed.is_run) return parsed.status;
-    return run_with_mpi(argc, argv, parsed.run);
+    return run(argc, argv, parsed.run);
   } catch (const std::exception& e) {  // listing scenes or methods to a stdout that fails
     cs::log("contactsweep: failure: {}", e.what());
     return 1;

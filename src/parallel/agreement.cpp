@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "io/run_spec.hpp"
+#include "parallel/comm.hpp"
 
 namespace cs {
 namespace {
@@ -21,6 +22,7 @@ std::string host_name() {
 }  // namespace
 
 void broadcast(MPI_Comm comm, std::string& text) {
+  if (serial(comm)) return;
   auto length = static_cast<std::int64_t>(text.size());
   MPI_Bcast(&length, 1, MPI_INT64_T, 0, comm);
   text.resize(static_cast<std::size_t>(length));
@@ -33,11 +35,9 @@ void broadcast(MPI_Comm comm, std::string& text) {
 }
 
 void throw_if_any_failed(MPI_Comm comm, std::exception_ptr local_failure) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
+  const int rank = rank_of(comm), size = size_of(comm);
   int first_failed = local_failure ? rank : size;
-  MPI_Allreduce(MPI_IN_PLACE, &first_failed, 1, MPI_INT, MPI_MIN, comm);
+  allreduce(comm, &first_failed, 1, MPI_INT, MPI_MIN);
   if (first_failed == size) return;
 
   int kind = static_cast<int>(Kind::runtime);
@@ -55,11 +55,11 @@ void throw_if_any_failed(MPI_Comm comm, std::exception_ptr local_failure) {
     }
     if (rank != 0) message = "rank " + std::to_string(rank) + " (" + host_name() + "): " + message;
   }
-  MPI_Bcast(&kind, 1, MPI_INT, first_failed, comm);
+  bcast(comm, &kind, 1, MPI_INT, first_failed);
   auto length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, first_failed, comm);
+  bcast(comm, &length, 1, MPI_INT, first_failed);
   message.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(message.data(), length, MPI_CHAR, first_failed, comm);
+  bcast(comm, message.data(), length, MPI_CHAR, first_failed);
   if (kind == static_cast<int>(Kind::input)) throw InputError(message);
   throw CollectiveError(message);
 }

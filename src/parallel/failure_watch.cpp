@@ -3,11 +3,16 @@
 namespace cs {
 
 FailureWatch::FailureWatch(MPI_Comm comm) {
+  if (comm == MPI_COMM_NULL) {  // one process without MPI: its own failure is all there is
+    over_ = true;
+    return;
+  }
   MPI_Comm_dup(comm, &comm_);  // its rounds never match another collective by mistake
   start_round();
 }
 
 FailureWatch::~FailureWatch() {
+  if (comm_ == MPI_COMM_NULL) return;
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (finalized) return;

@@ -11,6 +11,7 @@
 
 #include "io/output_file.hpp"
 #include "parallel/agreement.hpp"
+#include "parallel/comm.hpp"
 #include "version.hpp"
 
 namespace cs {
@@ -143,11 +144,9 @@ class ColumnBatch {
 
 void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
                   const OutputOptions& options, MPI_Comm comm) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
+  const int rank = rank_of(comm), ranks = size_of(comm);
   int threads = omp_get_max_threads();
-  MPI_Allreduce(MPI_IN_PLACE, &threads, 1, MPI_INT, MPI_MAX, comm);
+  allreduce(comm, &threads, 1, MPI_INT, MPI_MAX);
 
   // Rank 0: after a failure it stops writing but goes on receiving, so that no sender waits.
   std::optional<OutputFile> file;

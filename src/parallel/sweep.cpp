@@ -21,6 +21,7 @@
 #include "io/memory_budget.hpp"
 #include "io/output_inspect.hpp"
 #include "parallel/agreement.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/output_assembly.hpp"
@@ -33,10 +34,7 @@ namespace {
 struct Comm {
   MPI_Comm comm;
   int rank = 0, size = 1;
-  explicit Comm(MPI_Comm c) : comm(c) {
-    MPI_Comm_rank(c, &rank);
-    MPI_Comm_size(c, &size);
-  }
+  explicit Comm(MPI_Comm c) : comm(c), rank(rank_of(c)), size(size_of(c)) {}
 };
 
 // Blocks are the unit of load balance and of the journal. Their size is a function of the spec
@@ -116,8 +114,8 @@ void check_every_point_computed(const std::vector<std::unique_ptr<BlockResults>>
                                 std::int64_t points, const Comm& c) {
   std::int64_t local = 0;
   for (const auto& r : results) local += r ? r->range.end - r->range.begin : 0;
-  std::int64_t total = 0;
-  MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, c.comm);
+  std::int64_t total = local;
+  allreduce(c.comm, &total, 1, MPI_INT64_T, MPI_SUM);
   if (total != points)
     throw CollectiveError(fmt::format("internal error: the ranks computed {} points of a grid of "
                                       "{}; no output written, the journal is kept",
@@ -229,7 +227,7 @@ Decision agreed_start(const RunSpec& spec, const SweepOptions& options, Journal&
   });
   std::int64_t fields[4] = {static_cast<std::int64_t>(d.start), d.replace_output,
                             d.remove_journal, d.journal_bytes};
-  MPI_Bcast(fields, 4, MPI_INT64_T, 0, c.comm);
+  bcast(c.comm, fields, 4, MPI_INT64_T, 0);
   return {static_cast<Start>(fields[0]), fields[1] != 0, fields[2] != 0, fields[3]};
 }
 
@@ -240,12 +238,12 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
                      const Decision& decision, const SweepOptions& options, const Comm& c) {
   const double values = values_per_point(plan);
   MPI_Comm node = MPI_COMM_NULL;
-  MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
+  if (!serial(c.comm))
+    MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
   double node_bytes = static_cast<double>(local_points) * values * sizeof(double);
-  MPI_Allreduce(MPI_IN_PLACE, &node_bytes, 1, MPI_DOUBLE, MPI_SUM, node);
-  int node_ranks = 1;
-  MPI_Comm_size(node, &node_ranks);
-  MPI_Comm_free(&node);
+  allreduce(node, &node_bytes, 1, MPI_DOUBLE, MPI_SUM);
+  const int node_ranks = size_of(node);
+  if (!serial(node)) MPI_Comm_free(&node);
   agreed(c.comm, [&] {
     const MemoryBudget budget = memory_budget();
     if (node_bytes > 0.8 * budget.bytes)
@@ -384,7 +382,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   std::int64_t counts[3] = {count_status(results, plan.map.status, LaneStatus::diverged),
                             count_status(results, plan.map.status, LaneStatus::breakdown),
                             computed.load()};
-  MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_INT64_T, MPI_SUM, comm);
+  allreduce(comm, counts, 3, MPI_INT64_T, MPI_SUM);
   summary.flagged_diverged = counts[0];
   summary.flagged_breakdown = counts[1];
   summary.computed_points = counts[2];
