@@ -19,13 +19,13 @@
 #include "engine/run_plan.hpp"
 #include "io/log.hpp"
 #include "io/memory_budget.hpp"
-#include "io/output_inspect.hpp"
 #include "parallel/agreement.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/output_assembly.hpp"
 #include "parallel/progress.hpp"
+#include "parallel/run_start.hpp"
 #include "parallel/run_identity.hpp"
 
 namespace cs {
@@ -124,118 +124,11 @@ void check_every_point_computed(const std::vector<std::unique_ptr<BlockResults>>
 
 std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); }
 
-// How this invocation relates to what an earlier one left at the output path. Rank 0 decides,
-// under the journal's lock, and every rank follows: the file system may look different from
-// other nodes (NFS attribute caches), and the decision must be one.
-enum class Start : int { fresh, resume, complete };
-
-struct Decision {
-  Start start = Start::fresh;
-  bool replace_output = false;        // the commit may replace an existing file (--force)
-  bool remove_journal = false;        // complete: the journal is this run's, left by a kill
-  std::int64_t journal_bytes = 0;     // already on disk, for the disk check
-};
-
-void check_output_path(const SweepOptions& options) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status = fs::status(options.output, error);
-  if (fs::is_symlink(fs::symlink_status(options.output, error)) && !fs::exists(status))
-    throw InputError("output '" + options.output + "' is a symbolic link to nothing ('" +
-                     fs::read_symlink(options.output, error).string() +
-                     "'); remove it or name another file");
-  if (fs::is_directory(status))
-    throw InputError("output '" + options.output + "' is a directory; name a file, e.g. -o " +
-                     (fs::path(options.output) / "map.h5").string());
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw InputError("output '" + options.output +
-                     "' exists and is not a regular file (a device, pipe or socket); contactsweep "
-                     "replaces only regular files, even with --force");
-  auto directory = fs::absolute(options.output).parent_path();
-  // access() alone passes a regular file for root, so the parent must be a directory too.
-  if (!fs::is_directory(directory, error) || ::access(directory.c_str(), W_OK) != 0)
-    throw InputError("cannot write the output '" + options.output + "': directory '" +
-                     directory.string() + "' is missing or not writable");
-}
-
-// Rank 0 only, with the journal locked. Throws InputError when the user must choose.
-Decision decide_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
-                      const std::string& run_id) {
-  if (options.force) return {Start::fresh, true, false, 0};
-  const JournalContents j = journal.inspect();
-  const bool output_exists = std::filesystem::exists(options.output);
-  auto output_made_by_this_spec = [&] {
-    const auto text = read_spec_attribute(options.output);
-    return text && *text == spec.spec_text;
-  };
-  const std::string saved = fmt::format("{} block(s) saved", j.block_files);
-
-  if (j.manifest && j.manifest->run_id == run_id) {  // this very run, interrupted
-    // Killed after its commit, unless the run was started to replace that very file (--force
-    // over an output of the same spec, say from another build): then the file may be the old
-    // one, and finishing from the journal is the only safe reading.
-    if (output_exists && !j.manifest->replaces_output && output_made_by_this_spec())
-      return {Start::complete, false, true, 0};
-    if (!options.resume)
-      throw InputError("an unfinished run of this spec left its journal in '" +
-                       journal.directory() + "' (" + saved +
-                       "); pass --resume to continue it or --force to discard it");
-    if (output_exists && !j.manifest->replaces_output)
-      throw InputError("output '" + options.output +
-                       "' appeared after this run started and was not made by it; move it away, "
-                       "then --resume finishes the run from its journal '" +
-                       journal.directory() + "' (" + saved + ")");
-    return {Start::resume, j.manifest->replaces_output, false, j.bytes};
-  }
-
-  if (output_exists) {
-    if (!options.resume)
-      throw InputError("output '" + options.output +
-                       "' exists; pass --force to replace it or --resume to continue that run");
-    if (output_made_by_this_spec()) return {Start::complete, false, false, 0};
-    throw InputError("--resume: output '" + options.output +
-                     "' was not made by this spec (after --set); pass --force to replace it");
-  }
-
-  if (j.manifest || j.block_files > 0) {  // another run's unfinished work: the user decides
-    std::string maker;
-    if (!j.manifest)
-      maker = j.manifest_problem.empty() ? "a run whose manifest is missing" : j.manifest_problem;
-    else if (j.manifest->spec_text != spec.spec_text)
-      maker = "a different spec (after --set)";
-    else if (j.manifest->build != build_identity())
-      maker = "another build of contactsweep (" + j.manifest->build + "; this is " +
-              build_identity() + "), whose results may differ";
-    else
-      maker = "the same spec cut into other blocks";
-    throw InputError(std::string(options.resume ? "--resume: " : "") + "the unfinished run in '" +
-                     journal.directory() + "' (" + saved + ") was made by " + maker +
-                     "; pass --force to discard it" +
-                     (options.resume ? "" : ", or --resume with the spec that made it"));
-  }
-  return {Start::fresh, false, false, 0};  // nothing, or a journal holding no block
-}
-
-// Collective: rank 0 locks the journal and decides; every rank gets the decision.
-Decision agreed_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
-                      const std::string& run_id, const Comm& c) {
-  Decision d = agreed(c.comm, [&] {
-    if (c.rank != 0) return Decision{};
-    check_output_path(options);
-    journal.lock();
-    return decide_start(spec, options, journal, run_id);
-  });
-  std::int64_t fields[4] = {static_cast<std::int64_t>(d.start), d.replace_output,
-                            d.remove_journal, d.journal_bytes};
-  bcast(c.comm, fields, 4, MPI_INT64_T, 0);
-  return {static_cast<Start>(fields[0]), fields[1] != 0, fields[2] != 0, fields[3]};
-}
-
 // Collective. Refuses, before any work, a run whose results cannot fit: every rank holds the
 // results of its blocks until the end, and ranks on one node share its memory (counted per
 // node, against that node's budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t blocks,
-                     const Decision& decision, const SweepOptions& options, const Comm& c) {
+                     const StartDecision& decision, const SweepOptions& options, const Comm& c) {
   const double values = values_per_point(plan);
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(c.comm))
@@ -317,7 +210,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   const std::string run_id = run_identity(spec.spec_text, plan.grid.size(), block_size);
   check_same_run(run_id, c);
   Journal journal(options.output, run_id);
-  const Decision decision = agreed_start(spec, options, journal, run_id, c);
+  const StartDecision decision = agreed_start(spec, options, journal, run_id, comm);
   if (decision.start == Start::complete) {
     if (c.rank == 0 && decision.remove_journal) remove_finished_journal(journal);
     summary.already_complete = true;

@@ -1,0 +1,112 @@
+#include "parallel/run_start.hpp"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "io/output_inspect.hpp"
+#include "parallel/agreement.hpp"
+#include "parallel/comm.hpp"
+#include "parallel/run_identity.hpp"
+
+namespace cs {
+namespace {
+
+void check_output_path(const SweepOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(options.output, error);
+  if (fs::is_symlink(fs::symlink_status(options.output, error)) && !fs::exists(status))
+    throw InputError("output '" + options.output + "' is a symbolic link to nothing ('" +
+                     fs::read_symlink(options.output, error).string() +
+                     "'); remove it or name another file");
+  if (fs::is_directory(status))
+    throw InputError("output '" + options.output + "' is a directory; name a file, e.g. -o " +
+                     (fs::path(options.output) / "map.h5").string());
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError("output '" + options.output +
+                     "' exists and is not a regular file (a device, pipe or socket); contactsweep "
+                     "replaces only regular files, even with --force");
+  auto directory = fs::absolute(options.output).parent_path();
+  // access() alone passes a regular file for root, so the parent must be a directory too.
+  if (!fs::is_directory(directory, error) || ::access(directory.c_str(), W_OK) != 0)
+    throw InputError("cannot write the output '" + options.output + "': directory '" +
+                     directory.string() + "' is missing or not writable");
+}
+
+// Rank 0 only, with the journal locked. Throws InputError when the user must choose.
+StartDecision decide_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
+                           const std::string& run_id) {
+  if (options.force) return {Start::fresh, true, false, 0};
+  const JournalContents j = journal.inspect();
+  const bool output_exists = std::filesystem::exists(options.output);
+  auto output_made_by_this_spec = [&] {
+    const auto text = read_spec_attribute(options.output);
+    return text && *text == spec.spec_text;
+  };
+  const std::string saved = fmt::format("{} block(s) saved", j.block_files);
+
+  if (j.manifest && j.manifest->run_id == run_id) {  // this very run, interrupted
+    // Killed after its commit, unless the run was started to replace that very file (--force
+    // over an output of the same spec, say from another build): then the file may be the old
+    // one, and finishing from the journal is the only safe reading.
+    if (output_exists && !j.manifest->replaces_output && output_made_by_this_spec())
+      return {Start::complete, false, true, 0};
+    if (!options.resume)
+      throw InputError("an unfinished run of this spec left its journal in '" +
+                       journal.directory() + "' (" + saved +
+                       "); pass --resume to continue it or --force to discard it");
+    if (output_exists && !j.manifest->replaces_output)
+      throw InputError("output '" + options.output +
+                       "' appeared after this run started and was not made by it; move it away, "
+                       "then --resume finishes the run from its journal '" +
+                       journal.directory() + "' (" + saved + ")");
+    return {Start::resume, j.manifest->replaces_output, false, j.bytes};
+  }
+
+  if (output_exists) {
+    if (!options.resume)
+      throw InputError("output '" + options.output +
+                       "' exists; pass --force to replace it or --resume to continue that run");
+    if (output_made_by_this_spec()) return {Start::complete, false, false, 0};
+    throw InputError("--resume: output '" + options.output +
+                     "' was not made by this spec (after --set); pass --force to replace it");
+  }
+
+  if (j.manifest || j.block_files > 0) {  // another run's unfinished work: the user decides
+    std::string maker;
+    if (!j.manifest)
+      maker = j.manifest_problem.empty() ? "a run whose manifest is missing" : j.manifest_problem;
+    else if (j.manifest->spec_text != spec.spec_text)
+      maker = "a different spec (after --set)";
+    else if (j.manifest->build != build_identity())
+      maker = "another build of contactsweep (" + j.manifest->build + "; this is " +
+              build_identity() + "), whose results may differ";
+    else
+      maker = "the same spec cut into other blocks";
+    throw InputError(std::string(options.resume ? "--resume: " : "") + "the unfinished run in '" +
+                     journal.directory() + "' (" + saved + ") was made by " + maker +
+                     "; pass --force to discard it" +
+                     (options.resume ? "" : ", or --resume with the spec that made it"));
+  }
+  return {Start::fresh, false, false, 0};  // nothing, or a journal holding no block
+}
+
+}  // namespace
+
+StartDecision agreed_start(const RunSpec& spec, const SweepOptions& options, Journal& journal,
+                           const std::string& run_id, MPI_Comm comm) {
+  StartDecision d = agreed(comm, [&] {
+    if (rank_of(comm) != 0) return StartDecision{};
+    check_output_path(options);
+    journal.lock();
+    return decide_start(spec, options, journal, run_id);
+  });
+  std::int64_t fields[4] = {static_cast<std::int64_t>(d.start), d.replace_output,
+                            d.remove_journal, d.journal_bytes};
+  bcast(comm, fields, 4, MPI_INT64_T, 0);
+  return {static_cast<Start>(fields[0]), fields[1] != 0, fields[2] != 0, fields[3]};
+}
+
+}  // namespace cs
