@@ -260,6 +260,17 @@ mkdir -p damaged.h5.journal && echo "contactsweep journal 2" >damaged.h5.journal
 "$bin" run spec.toml -o damaged.h5 --resume --quiet && same "damaged manifest, no block" damaged.h5 reference.h5 &&
   ok "a damaged manifest with no block: --resume starts afresh"
 
+# A kill while a finished run removed its journal leaves debris (no manifest, no block) beside a
+# complete output: --resume reports it complete and clears the debris.
+cp reference.h5 debris.h5 && mkdir -p debris.h5.journal && : >debris.h5.journal/lock
+"$bin" run spec.toml -o debris.h5 --resume >debris.log 2>&1
+rc=$?
+if ((rc == 0)) && grep -q "already complete" debris.log && [[ ! -e debris.h5.journal ]]; then
+  ok "journal debris beside a complete output: --resume says complete and removes it"
+else
+  bad "journal debris" "exit $rc, journal $(ls -d debris.h5.journal 2>/dev/null): $(cat debris.log)"
+fi
+
 # 13. Smaller: -o '', a directory, a device, and the resume summary.
 "$bin" run spec.toml -o '' >empty.log 2>&1
 status_and_message "-o ''" 2 $? empty.log "output path is empty" && ok "-o '' is refused (exit 2)"

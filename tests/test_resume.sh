@@ -4,8 +4,9 @@
 # over a run's duration), continue each with --resume — sometimes with
 # another rank count — and require the result to equal an uninterrupted run in every dataset.
 # Usage: test_resume.sh CONTACTSWEEP SPEC COMPARE_SCRIPT WORKDIR [LONG_T_END=400]
-# LONG_T_END sets the length of the runs killed at timed moments (~2 s on 2 ranks in a release
-# build; the sanitizer build, ~60x slower in this kernel, passes 40).
+# LONG_T_END sets the length of the runs killed at timed moments (~2.5 s on 2 ranks in a release
+# build at 1500, well beyond mpirun's ~0.5 s start-up; the sanitizer build, ~60x slower in this
+# kernel, passes 40).
 set -uo pipefail
 bin=$1 spec=$2 compare=$3 work=$4 long_t_end=${5:-400}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1

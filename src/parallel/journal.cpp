@@ -233,12 +233,23 @@ JournalContents Journal::inspect() const {
   return contents;
 }
 
-void Journal::start(const JournalManifest& manifest) {
+// Blocks first, the manifest last: a journal cut short at any point still names its run for as
+// long as it holds a block, and one without a manifest holds none.
+void Journal::remove_blocks_then_manifest() const {
   std::error_code error;
-  for (const auto& entry : fs::directory_iterator(directory_, error))
-    if (entry.path().filename() != "lock") fs::remove_all(entry.path());
+  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
+       it.increment(error)) {
+    const auto name = it->path().filename();
+    std::error_code ignored;
+    if (name != "lock" && name != "manifest") fs::remove_all(it->path(), ignored);
+  }
+  fs::remove(directory_ + "/manifest", error);
   if (error)
     throw std::runtime_error("cannot clear the journal '" + directory_ + "': " + error.message());
+}
+
+void Journal::start(const JournalManifest& manifest) {
+  remove_blocks_then_manifest();
   fs::create_directories(directory_);
   write_atomically(directory_ + "/manifest", manifest_text(manifest));
   started_ = true;
@@ -304,12 +315,8 @@ bool Journal::load(BlockResults& block) const {
 }
 
 void Journal::remove() {
+  remove_blocks_then_manifest();
   std::error_code error;
-  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
-       it.increment(error)) {
-    std::error_code ignored;
-    if (it->path().filename() != "lock") fs::remove_all(it->path(), ignored);
-  }
   fs::remove(directory_ + "/lock", error);
   fs::remove(directory_, error);
   if (lock_fd_ >= 0) ::close(lock_fd_);

@@ -79,6 +79,7 @@ class Journal {
 
  private:
   std::string block_path(std::int64_t begin) const;
+  void remove_blocks_then_manifest() const;
   std::string directory_;
   std::string run_id_;
   int lock_fd_ = -1;

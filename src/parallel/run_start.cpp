@@ -69,7 +69,10 @@ StartDecision decide_start(const RunSpec& spec, const SweepOptions& options, Jou
     if (!options.resume)
       throw InputError("output '" + options.output +
                        "' exists; pass --force to replace it or --resume to continue that run");
-    if (output_made_by_this_spec()) return {Start::complete, false, false, 0};
+    // A journal holding neither manifest nor block is what a kill during an earlier run's
+    // removal leaves: debris, removed with it. Another run's journal stays.
+    const bool debris = j.directory_exists && !j.manifest && j.block_files == 0;
+    if (output_made_by_this_spec()) return {Start::complete, false, debris, 0};
     throw InputError("--resume: output '" + options.output +
                      "' was not made by this spec (after --set); pass --force to replace it");
   }
