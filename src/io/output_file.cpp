@@ -1,10 +1,12 @@
-// Parallel HDF5 writer for the result file (see output_file.hpp for the layout contract).
+// HDF5 writer for the result file (see output_file.hpp for the layout contract): serial (sec2
+// driver, no MPI at all) with MPI_COMM_NULL, which is how contactsweep writes; collective
+// (MPI-IO) with a communicator, which the MPI tests exercise.
 //
-// Every call into HDF5 that touches file metadata (create, attributes, dimension scales, close) is
-// collective: all ranks make the same calls with the same arguments, in the same order. Raw data
-// goes through collective H5Dwrite calls. Checks that could fail on one rank only (bad ranges,
-// unknown names, file system operations done by rank 0) are agreed on with an Allreduce before
-// any collective HDF5 call, so every rank throws together instead of some ranks hanging.
+// Collectively, every call into HDF5 that touches file metadata (create, attributes, dimension
+// scales, close) is made by all ranks with the same arguments, in the same order, and raw data
+// goes through collective H5Dwrite calls. Every HDF5 result is agreed across ranks (Checker), as
+// are checks that could fail on one rank only (bad ranges, unknown names, file system steps of
+// rank 0), so every rank throws together instead of some ranks hanging.
 #include "io/output_file.hpp"
 
 #include <hdf5.h>

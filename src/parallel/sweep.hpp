@@ -1,7 +1,8 @@
 // The parallel driver: cuts the grid into blocks of points, deals them to MPI ranks
-// round-robin and to OpenMP threads dynamically, and writes every rank's blocks into one HDF5
-// file collectively. Blocks hold whole lanes, and a lane's result depends on nothing but its
-// own point, so the file has the same bits for any number of ranks and threads.
+// round-robin and to OpenMP threads dynamically, journals each finished block, and has rank 0
+// write every rank's blocks into one HDF5 file. Blocks hold whole lanes, and a lane's result
+// depends on nothing but its own point, so the file has the same bits for any number of ranks
+// and threads. `comm` may be MPI_COMM_NULL: one process without MPI (parallel/comm.hpp).
 #pragma once
 
 #include <mpi.h>
