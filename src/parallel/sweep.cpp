@@ -147,11 +147,10 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
           gib(node_bytes), node_ranks, plan.grid.size(), values, gib(budget.bytes),
           budget.source));
     if (c.rank != 0) return;
-    const double points = static_cast<double>(plan.grid.size());
-    const double file_bytes = points * values * sizeof(double) + 65536.0;  // + HDF5 metadata
-    const double journal_bytes = points * values * sizeof(double) + static_cast<double>(blocks) * 256;
+    const double output_bytes = file_bytes(plan) + 65536.0;  // + HDF5 metadata
+    const double journal_bytes = file_bytes(plan) + static_cast<double>(blocks) * 256;
     const double needed =
-        file_bytes + std::max(0.0, journal_bytes - static_cast<double>(decision.journal_bytes));
+        output_bytes + std::max(0.0, journal_bytes - static_cast<double>(decision.journal_bytes));
     const auto directory = std::filesystem::absolute(options.output).parent_path();
     std::error_code error;
     const auto space = std::filesystem::space(directory, error);
@@ -162,7 +161,7 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
           "the output and its journal need about {} but {} has {} free (the file {}, the "
           "journal of finished blocks {}, both on disk until the file is in place)",
           gib(needed), directory.string(), gib(static_cast<double>(space.available)),
-          gib(file_bytes), gib(journal_bytes)));
+          gib(output_bytes), gib(journal_bytes)));
   });
 }
 
