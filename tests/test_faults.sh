@@ -68,7 +68,8 @@ elif same "ranks with 1 and 2 threads" het.h5 reference.h5; then ok "ranks with 
 printf 'rank 0=localhost slot=0\nrank 1=localhost slot=0-1\n' >rankfile
 if (env -u OMP_NUM_THREADS mpirun -np 2 --rankfile rankfile "$bin" run spec.toml -o rankfile.h5 \
       --quiet >rankfile.log 2>&1); then
-  same "rankfile: 1 and 2 cores" rankfile.h5 reference.h5 && ok "rankfile with 1 and 2 cores per rank: the 1-process bits"
+  same "rankfile: 1 and 2 cores" rankfile.h5 reference.h5 && ok "rankfile with 1 and 2 cores per rank: the 1-process bits" ||
+  bad "rankfile with 1 and 2 cores per rank: the 1-process bits" "a step of this case failed without its own message (see the logs in the work directory)"
 elif grep -qi "rankfile\|slot\|not available\|bind" rankfile.log; then
   echo "note  rankfile: this machine's Open MPI refused the rankfile: $(head -2 rankfile.log | tr '\n' ' ')"
 else
@@ -80,15 +81,18 @@ CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o build.h5 --quiet 2>/dev/n
 sed -i 's/^run .*/run 0123456789abcdef/; s/^build .*/build 0.1.0 build-id 00ff/' build.h5.journal/manifest
 "$bin" run spec.toml -o build.h5 --resume --quiet >build.log 2>&1
 status_and_message "journal of another build" 2 $? build.log "another build of contactsweep" &&
-  [[ ! -e build.h5 ]] && ok "a journal left by another build is refused (exit 2), not resumed"
+  [[ ! -e build.h5 ]] && ok "a journal left by another build is refused (exit 2), not resumed" ||
+  bad "a journal left by another build is refused (exit 2), not resumed" "a step of this case failed without its own message (see the logs in the work directory)"
 # ...and one of the old format, which did not identify its build at all.
 mkdir -p old.h5.journal && printf 'contactsweep journal\nversion 0.1.0\npoints 16637\n' >old.h5.journal/manifest
 cp build.h5.journal/block_0.bin old.h5.journal/
 "$bin" run spec.toml -o old.h5 --resume --quiet >old.log 2>&1
 status_and_message "journal of the old format" 2 $? old.log "older contactsweep" &&
-  ok "an old-format journal is refused (exit 2)"
+  ok "an old-format journal is refused (exit 2)" ||
+  bad "an old-format journal is refused (exit 2)" "a step of this case failed without its own message (see the logs in the work directory)"
 "$bin" run spec.toml -o old.h5 --force --quiet && same "old journal discarded with --force" old.h5 reference.h5 &&
-  ok "--force discards it and computes afresh"
+  ok "--force discards it and computes afresh" ||
+  bad "--force discards it and computes afresh" "a step of this case failed without its own message (see the logs in the work directory)"
 
 # 2b. A second run on an output whose run is alive is refused; the first finishes untouched.
 "$bin" run spec.toml -o live.h5 --quiet "${long[@]}" 2>live_a.log &
@@ -96,17 +100,20 @@ run_a=$!
 if wait_for_blocks live.h5 1; then
   "$bin" run spec.toml -o live.h5 --force --quiet --set scene.gamma=0.2 >live_b.log 2>&1
   status_and_message "second run on a live output" 2 $? live_b.log "another run is writing this output" &&
-    ok "a second run (--force, another spec) on a live run's output is refused (exit 2)"
+    ok "a second run (--force, another spec) on a live run's output is refused (exit 2)" ||
+  bad "a second run (--force, another spec) on a live run's output is refused (exit 2)" "a step of this case failed without its own message (see the logs in the work directory)"
   "$bin" run spec.toml -o live.h5 --resume --quiet "${long[@]}" >live_c.log 2>&1
   status_and_message "resume of a live run" 2 $? live_c.log "another run is writing this output" &&
-    ok "--resume of a run that is still alive is refused (exit 2)"
+    ok "--resume of a run that is still alive is refused (exit 2)" ||
+  bad "--resume of a run that is still alive is refused (exit 2)" "a step of this case failed without its own message (see the logs in the work directory)"
 else
   bad "second run on a live output" "the first run journaled no block within 60 s"
 fi
 wait "$run_a"
 rc=$?
 ((rc == 0)) && same "the live run after the refusals" live.h5 long_reference.h5 &&
-  ok "the live run ends with exit 0 and its own bits"
+  ok "the live run ends with exit 0 and its own bits" ||
+  bad "the live run ends with exit 0 and its own bits" "a step of this case failed without its own message (see the logs in the work directory)"
 
 # 3. Disk full while the HDF5 file is written (after 0 bytes, mid-metadata, mid-data), on one
 # rank, on both, and on rank 0 of two only: exit 1 with a message, no temporary, journal kept,
@@ -120,7 +127,8 @@ for after in 0 40000 300000; do
   if status_and_message "full disk in the HDF5 write after $after bytes" 1 $rc "$out.log" "cannot" &&
      [[ ! -e $out && ! -e $out.partial && -d $out.journal ]]; then
     "$bin" run spec.toml -o "$out" --resume --quiet && same "resume after a full disk" "$out" reference.h5 &&
-      ok "full disk in the HDF5 write after $after bytes: exit 1, journal kept, resumed to the right bits"
+      ok "full disk in the HDF5 write after $after bytes: exit 1, journal kept, resumed to the right bits" ||
+  bad "full disk in the HDF5 write after $after bytes: exit 1, journal kept, resumed to the right bits" "a step of this case failed without its own message (see the logs in the work directory)"
   elif ((rc == 1)); then bad "full disk after $after bytes" "left: $(ls -d "$out"* | tr '\n' ' ')"; fi
   for who in both rank0; do
     out=full_${after}_np2_$who.h5
@@ -137,7 +145,8 @@ for after in 0 40000 300000; do
        [[ ! -e $out && ! -e $out.partial && -d $out.journal ]]; then
       "${mpirun[@]}" -np 2 "$bin" run spec.toml -o "$out" --resume --quiet &&
         same "resume after a full disk on 2 ranks" "$out" reference.h5 &&
-        ok "full disk in the HDF5 write on 2 ranks ($who) after $after bytes: no hang, exit $rc, resumed"
+        ok "full disk in the HDF5 write on 2 ranks ($who) after $after bytes: no hang, exit $rc, resumed" ||
+  bad "full disk in the HDF5 write on 2 ranks ($who) after $after bytes: no hang, exit $rc, resumed" "a step of this case failed without its own message (see the logs in the work directory)"
     else
       bad "full disk, 2 ranks ($who), after $after bytes" "exit $rc, left $(ls -d "$out"* | tr '\n' ' '): $(grep contactsweep "$out.log" | head -2)"
     fi
@@ -148,7 +157,8 @@ mkdir -p small
 if mount -t tmpfs -o size=600k tmpfs small 2>/dev/null; then
   "$bin" run spec.toml -o small/a.h5 --quiet >small.log 2>&1
   status_and_message "output and journal larger than the disk" 2 $? small.log "journal" &&
-    [[ -z $(ls small) ]] && ok "a disk with room for the file but not for the journal too: refused (exit 2), nothing written"
+    [[ -z $(ls small) ]] && ok "a disk with room for the file but not for the journal too: refused (exit 2), nothing written" ||
+  bad "a disk with room for the file but not for the journal too: refused (exit 2), nothing written" "a step of this case failed without its own message (see the logs in the work directory)"
   # A finished output on a full disk: --resume says it is complete (no resource check first).
   cp reference.h5 small/done.h5 && dd if=/dev/zero of=small/filler bs=4k 2>/dev/null
   "$bin" run spec.toml -o small/done.h5 --resume --quiet &&
@@ -163,12 +173,14 @@ timeout 120 "${mpirun[@]}" -np 1 "$bin" run spec.toml -o budget.h5 : \
   -np 1 -x CONTACTSWEEP_MEMORY_LIMIT=64K "$bin" run spec.toml -o budget.h5 >budget.log 2>&1
 rc=$?
 status_and_message "memory budget on rank 1 only" 2 $rc budget.log "rank 1" &&
-  [[ ! -e budget.h5 && ! -e budget.h5.journal ]] && ok "a budget only rank 1 fails: every rank exits 2, rank 0 names rank 1, nothing written"
+  [[ ! -e budget.h5 && ! -e budget.h5.journal ]] && ok "a budget only rank 1 fails: every rank exits 2, rank 0 names rank 1, nothing written" ||
+  bad "a budget only rank 1 fails: every rank exits 2, rank 0 names rank 1, nothing written" "a step of this case failed without its own message (see the logs in the work directory)"
 # A spec only rank 0 can read (mpirun gives stdin to rank 0 alone): it is broadcast.
 timeout 120 "${mpirun[@]}" -np 2 "$bin" run /dev/stdin -o stdin.h5 --quiet <spec.toml >stdin.log 2>&1
 rc=$?
 ((rc == 0)) && same "spec from /dev/stdin under mpirun" stdin.h5 reference.h5 &&
-  ok "a spec on /dev/stdin under mpirun -np 2: read by rank 0, the right file"
+  ok "a spec on /dev/stdin under mpirun -np 2: read by rank 0, the right file" ||
+  bad "a spec on /dev/stdin under mpirun -np 2: read by rank 0, the right file" "a step of this case failed without its own message (see the logs in the work directory)"
 ((rc == 0)) || bad "spec from /dev/stdin under mpirun" "exit $rc: $(tail -2 stdin.log)"
 
 # 5. A failed save stops the run at once, on every rank, and leaves no temporary files. The
@@ -194,14 +206,16 @@ for ranks in 1 2; do
   elif ! grep -qF "cannot write" "$out.log"; then bad "failed save, $ranks rank(s)" "no message: $(tail -2 "$out.log")"
   else
     "$bin" run spec.toml -o "$out" --resume --quiet "${long[@]}" && same "resume after a failed save" "$out" long_reference.h5 &&
-      ok "a failed save on $ranks rank(s) stops every rank ($saved of 65 blocks saved), no .tmp left, resumed"
+      ok "a failed save on $ranks rank(s) stops every rank ($saved of 65 blocks saved), no .tmp left, resumed" ||
+  bad "a failed save on $ranks rank(s) stops every rank ($saved of 65 blocks saved), no .tmp left, resumed" "a step of this case failed without its own message (see the logs in the work directory)"
   fi
 done
 
 # 7. stderr that cannot be written never aborts a run.
 "$bin" run spec.toml -o devfull.h5 2>/dev/full
 rc=$?
-((rc == 0)) && same "stderr on /dev/full" devfull.h5 reference.h5 && ok "stderr on /dev/full: exit 0, the right file"
+((rc == 0)) && same "stderr on /dev/full" devfull.h5 reference.h5 && ok "stderr on /dev/full: exit 0, the right file" ||
+  bad "stderr on /dev/full: exit 0, the right file" "a step of this case failed without its own message (see the logs in the work directory)"
 ((rc == 0)) || bad "stderr on /dev/full" "exit $rc"
 "$bin" run spec.toml -o devfull_bad.h5 --set integrator.h=0 2>/dev/full
 rc=$?
@@ -220,7 +234,8 @@ if wait_for_blocks appear.h5 1; then
     status_and_message "resume while the stranger is there" 2 $? appear2.log "move it away" &&
       mv appear.h5 stranger.h5 && "$bin" run spec.toml -o appear.h5 --resume --quiet "${long[@]}" &&
       same "resume after moving the stranger away" appear.h5 long_reference.h5 &&
-      ok "an output that appeared mid-run is kept (exit 1), then --resume finishes from the journal"
+      ok "an output that appeared mid-run is kept (exit 1), then --resume finishes from the journal" ||
+  bad "an output that appeared mid-run is kept (exit 1), then --resume finishes from the journal" "a step of this case failed without its own message (see the logs in the work directory)"
   fi
 else
   wait "$run_a"; bad "output appeared during the run" "no block journaled within 60 s"
@@ -238,7 +253,8 @@ else
   bad "another spec's --resume" "exit $rc, $(blocks_in forced.h5) blocks left: $(cat forced_other.log)"
 fi
 "$bin" run spec.toml -o forced.h5 --resume --quiet && same "resume of a forced run" forced.h5 reference.h5 &&
-  ok "a killed --force run resumes by its own spec and replaces the old output"
+  ok "a killed --force run resumes by its own spec and replaces the old output" ||
+  bad "a killed --force run resumes by its own spec and replaces the old output" "a step of this case failed without its own message (see the logs in the work directory)"
 
 # ...and a killed --force run over an output of the same spec (say, made by an older build) is
 # finished from its journal, never taken as complete from the old file.
@@ -255,10 +271,12 @@ fi
 # 11. A kill between the journal's creation and its manifest: --resume starts afresh.
 mkdir -p early.h5.journal && : >early.h5.journal/lock && : >early.h5.journal/manifest.tmp
 "$bin" run spec.toml -o early.h5 --resume --quiet && same "journal without a manifest" early.h5 reference.h5 &&
-  ok "a journal holding no block (killed before its manifest): --resume starts afresh"
+  ok "a journal holding no block (killed before its manifest): --resume starts afresh" ||
+  bad "a journal holding no block (killed before its manifest): --resume starts afresh" "a step of this case failed without its own message (see the logs in the work directory)"
 mkdir -p damaged.h5.journal && echo "contactsweep journal 2" >damaged.h5.journal/manifest
 "$bin" run spec.toml -o damaged.h5 --resume --quiet && same "damaged manifest, no block" damaged.h5 reference.h5 &&
-  ok "a damaged manifest with no block: --resume starts afresh"
+  ok "a damaged manifest with no block: --resume starts afresh" ||
+  bad "a damaged manifest with no block: --resume starts afresh" "a step of this case failed without its own message (see the logs in the work directory)"
 
 # A kill while a finished run removed its journal leaves debris (no manifest, no block) beside a
 # complete output: --resume reports it complete and clears the debris.
@@ -273,13 +291,16 @@ fi
 
 # 13. Smaller: -o '', a directory, a device, and the resume summary.
 "$bin" run spec.toml -o '' >empty.log 2>&1
-status_and_message "-o ''" 2 $? empty.log "output path is empty" && ok "-o '' is refused (exit 2)"
+status_and_message "-o ''" 2 $? empty.log "output path is empty" && ok "-o '' is refused (exit 2)" ||
+  bad "-o '' is refused (exit 2)" "a step of this case failed without its own message (see the logs in the work directory)"
 mkdir -p adir.h5
 "$bin" run spec.toml -o adir.h5 >dir.log 2>&1
-status_and_message "output is a directory" 2 $? dir.log "is a directory" && ok "an output that is a directory: exit 2, named"
+status_and_message "output is a directory" 2 $? dir.log "is a directory" && ok "an output that is a directory: exit 2, named" ||
+  bad "an output that is a directory: exit 2, named" "a step of this case failed without its own message (see the logs in the work directory)"
 "$bin" run spec.toml -o /dev/null --force >dev.log 2>&1
 status_and_message "--force over a device" 2 $? dev.log "not a regular file" && [[ -c /dev/null ]] &&
-  ok "--force over a device node: refused (exit 2), the device kept"
+  ok "--force over a device node: refused (exit 2), the device kept" ||
+  bad "--force over a device node: refused (exit 2), the device kept" "a step of this case failed without its own message (see the logs in the work directory)"
 CONTACTSWEEP_TEST_KILL=block:5 "$bin" run spec.toml -o summary.h5 2>/dev/null
 "$bin" run spec.toml -o summary.h5 --resume >summary.log 2>&1
 grep -q "points loaded from the journal" summary.log && ok "the resume summary counts integrated points apart from loaded ones" ||
