@@ -1,0 +1,390 @@
+// scene.K, a contact Hamiltonian written in the spec (src/formula/k_formula.hpp): what it means
+// (grammar, exact numbers), what the kernel learns from it (traits), what is refused and how,
+// and the scene header generated from it. Compiling the generated headers needs the run-time
+// compiler; here the text is checked, and evaluate_k (GiNaC, 40 digits) is the reference.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "formula/k_formula.hpp"
+
+namespace cs {
+namespace {
+
+// ---- traits ------------------------------------------------------------------------------------
+
+enum Split { none, linear, quadratic };
+
+struct TraitCase {
+  const char* what;
+  const char* K;
+  int dof;
+  bool indexed, time_dependent, z_feeds_back, kz_constant, kz_state_free, p_in_forces;
+  Split split;
+  std::vector<std::string> parameters;
+};
+
+const TraitCase kTraitCases[] = {
+    // what, K, dof, indexed, time_dependent, z_feeds_back, kz_constant, kz_state_free,
+    // p_in_forces, z part, parameters
+    {"A damped oscillator", "(p^2 + omega^2*q^2)/2 - gamma*z", 1, false, false, false, true, true,
+     false, linear, {"gamma", "omega"}},
+    {"B z^2 damping", "(p^2 + omega^2*q^2)/2 - gamma*z^2", 1, false, false, true, false, false,
+     false, quadratic, {"gamma", "omega"}},
+    {"C double well", "p^2/2 + (q^2 - a^2)^2/2 - gamma*z", 1, false, false, false, true, true,
+     false, linear, {"a", "gamma"}},
+    {"D coupled oscillators",
+     "(p1^2 + omega1_sq*q1^2)/2 + (p2^2 + omega2_sq*q2^2)/2 + g*q1^2*q2^2 - gamma*z", 2, true,
+     false, false, true, true, false, linear, {"g", "gamma", "omega1_sq", "omega2_sq"}},
+    {"forced Duffing", "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z", 1, false, true,
+     false, true, true, false, linear, {"F", "Omega", "delta"}},
+    {"Lane-Emden n = 5: damping 2/t", "p^2/2 + q^6/6 - (2/t)*z", 1, false, true, false, false,
+     true, false, linear, {}},
+    {"time-perturbed Kepler", "(p1^2+p2^2)/2 - 1/sqrt(q1^2+q2^2) - alpha*sin(theta*t)*z", 2,
+     true, true, false, false, true, false, linear, {"alpha", "theta"}},
+    {"spin-orbit",
+     "p^2/2 - (eps/2)*((1 - 5*e^2/2)*cos(2*q - 2*t) - (e/2)*cos(2*q - t) + "
+     "(7*e/2)*cos(2*q - 3*t)) - eta*(z + nu*q)",
+     1, false, true, false, true, true, false, linear, {"e", "eps", "eta", "nu"}},
+    {"magnetic pendulum, 3 magnets",
+     "(p1^2+p2^2)/2 + w^2*(q1^2+q2^2)/2 - ((q1-1)^2+q2^2+d^2)^(-1/2)"
+     " - ((q1+0.5)^2+(q2-0.8660254037844386)^2+d^2)^(-1/2)"
+     " - ((q1+0.5)^2+(q2+0.8660254037844386)^2+d^2)^(-1/2) - gamma*z",
+     2, true, false, false, true, true, false, linear, {"d", "gamma", "w"}},
+    {"p in K_z", "p^2/2 + q^2/2 - gamma*p*z", 1, false, false, true, false, false, true, none,
+     {"gamma"}},
+    {"p in K_q", "p^2*q^2/2", 1, false, false, false, true, true, true, none, {}},
+    {"kinetic not p^2/2", "p^4/4 + q^2/2 - z", 1, false, false, false, true, true, false, none, {}},
+    {"mixed c*z + d*z^2", "p^2/2 + q^2/2 - gamma*z + z^2", 1, false, false, true, false, false,
+     false, none, {"gamma"}},
+    {"z in the force", "p^2/2 + q*z", 1, false, false, true, false, false, false, none, {}},
+    {"quadratic, time-dependent", "p^2/2 + q^2/2 - exp(-t)*z^2", 1, false, true, true, false,
+     false, false, quadratic, {}},
+    {"no q: still one dof", "p^2/2 - z", 1, false, false, false, true, true, false, linear, {}},
+    {"no z: linear with c = 0", "p^2/2 + q^4/4", 1, false, false, false, true, true, false, linear,
+     {}},
+    {"z cancels", "p^2/2 + (q + z)^2 - z^2 - 2*q*z", 1, false, false, false, true, true, false,
+     linear, {}},
+    {"K_z = -gamma*t", "p^2/2 + q^2/2 - gamma*t*z", 1, false, true, false, false, true, false,
+     linear, {"gamma"}},
+    {"an unused index: dof 3, p2 missing from the kinetic part", "(p1^2 + p3^2)/2 + q1*q3", 3,
+     true, false, false, true, true, false, none, {}},
+    {"z inside a function", "p1^2/2 + q1^2/2 + gamma*sin(z)", 1, true, false, true, false, false,
+     false, none, {"gamma"}},
+    {"sorted parameters (byte order)", "b*q + a*p + B*z + Euler*q + Catalan", 1, false, false,
+     false, true, true, false, none, {"B", "Catalan", "Euler", "a", "b"}},
+};
+
+TEST(KFormulaTraits, Table) {
+  for (const auto& c : kTraitCases) {
+    SCOPED_TRACE(std::string(c.what) + ": " + c.K);
+    KFormula f = parse_k(c.K);
+    EXPECT_EQ(f.text, c.K);
+    EXPECT_EQ(f.traits.dof, c.dof);
+    EXPECT_EQ(f.traits.indexed, c.indexed);
+    EXPECT_EQ(f.traits.time_dependent, c.time_dependent);
+    EXPECT_EQ(f.traits.z_feeds_back, c.z_feeds_back);
+    EXPECT_EQ(f.traits.kz_constant, c.kz_constant);
+    EXPECT_EQ(f.traits.kz_state_free, c.kz_state_free);
+    EXPECT_EQ(f.traits.p_in_forces, c.p_in_forces);
+    std::optional<ZPart> split;
+    if (c.split == linear) split = ZPart::linear;
+    if (c.split == quadratic) split = ZPart::quadratic;
+    EXPECT_EQ(f.traits.z_part, split);
+    EXPECT_EQ(f.parameters, c.parameters);
+    ASSERT_EQ(static_cast<int>(f.positions.size()), c.dof);
+    ASSERT_EQ(static_cast<int>(f.momenta.size()), c.dof);
+    for (int i = 0; i < c.dof; ++i) {
+      std::string index = c.indexed ? std::to_string(i + 1) : "";
+      EXPECT_EQ(f.positions[i], "q" + index);
+      EXPECT_EQ(f.momenta[i], "p" + index);
+    }
+  }
+}
+
+// ---- refusals ----------------------------------------------------------------------------------
+
+struct BadCase {
+  const char* K;
+  std::vector<std::string> words;  // each must be in the message
+};
+
+const BadCase kBadCases[] = {
+    {"", {"empty"}},
+    {"   ", {"empty"}},
+    {"q + ", {"syntax error at column 3", "'+'", "no right operand"}},
+    {"  q + ", {"column 5"}},
+    {"p^2/2 + (q", {"syntax error at column 9", "'(' is never closed"}},
+    {"sin(q", {"column 4", "never closed"}},
+    {"q)", {"syntax error at column 2", "')'"}},
+    {"q +* p", {"syntax error at column 4", "'*'"}},
+    {"2q", {"syntax error at column 2", "2*q"}},
+    {"()", {"syntax error at column 1", "empty parentheses"}},
+    {"q,p", {"column 2", "','"}},
+    {"q + 1.2.3", {"column 8", "'.3'"}},
+    {"q + 1.5e", {"column 8", "exponent"}},
+    {"q # a comment", {"column 3", "'#'"}},
+    {"p + ω*q", {"column 5", "'ω'"}},
+    {"p^2/2\n + (q", {"line 2, column 4", "never closed"}},
+    {"foo(q)", {"unknown function 'foo'", "column 1", "sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan"}},
+    {"p + erf(q)", {"unknown function 'erf'", "column 5", "sin cos tan"}},
+    {"besselj(1, q)", {"unknown function 'besselj'"}},
+    {"pow(q, 2) + p", {"unknown function 'pow'"}},
+    {"sin(q, p)", {"sin", "1 argument"}},
+    {"sin", {"sin", "is a function"}},
+    {"q(2) + p", {"q at column 1", "variable, not a function"}},
+    {"q + q1", {"mixes q (column 1) with q1 (column 5)"}},
+    {"p + p2", {"mixes p", "p2"}},
+    {"q^2 + p1", {"mixes q", "p1"}},
+    {"q0^2 + p", {"q0", "column 1", "start at 1"}},
+    {"q01 + p", {"q01", "leading zeros"}},
+    {"q65 + p", {"q65", "64"}},
+    {"z - gamma*t", {"no position or momentum"}},
+    {"2*pi", {"no position or momentum"}},
+    {"I*q", {"I at column 1", "real"}},
+    {"p + Pi*q", {"Pi", "pi"}},
+    {"q == 1", {"syntax error at column 3", "'=='", "not an equation"}},
+    {"q < 1", {"column 3", "'<'"}},
+    {"sqrt(-1)*q", {"sqrt(-1) at column 1", "not real"}},
+    {"p + log(-2)", {"log(-2) at column 5", "not real"}},
+    {"asin(2) + q", {"asin(2)", "not real"}},
+    {"(-8)^(1/3) + q", {"not real"}},
+    {"q^2^3", {"column 4", "ambiguous"}},
+    {"q**2", {"column 2", "'**'", "^"}},
+    {"1/0 + q", {"division by zero at column 2"}},
+    {"log(0)*q", {"log(0) at column 1", "no finite value"}},
+    {"q + 1e400", {"1e400 at column 5", "range"}},
+    {"q*1e-400", {"1e-400", "smallest"}},
+    {"p + lambda*q", {"lambda", "column 5"}},
+    {"p + h*q", {"h at column 5", "step"}},
+    {"p + K*q", {"K at column 5", "[scene]"}},
+    {"p + _a*q", {"_a", "'_'"}},
+    {"p + a__b*q", {"a__b", "'__'"}},
+    {"p + q_0*q", {"q_0", "initial value"}},
+    {"((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((("
+     "((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((("
+     "(((((((((((((((((((((((((((((((((q",
+     {"nested too deeply"}},
+};
+
+TEST(KFormulaErrors, RefusedWithTheReason) {
+  for (const auto& c : kBadCases) {
+    SCOPED_TRACE(std::string("K = \"") + c.K + "\"");
+    try {
+      parse_k(c.K);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      std::string message = e.what();
+      EXPECT_EQ(message.rfind("scene.K: ", 0), 0u) << message;
+      for (const auto& w : c.words) EXPECT_NE(message.find(w), std::string::npos) << w << " not in: " << message;
+    }
+  }
+}
+
+// Reserved words of C++ and likely macros still work: the field is renamed, the name is kept.
+TEST(KFormulaErrors, CppNamesAreRenamedNotRefused) {
+  KFormula f = parse_k("p^2/2 + int*q + errno*q + T*q + NAN*q + Params*q + int_*q + gamma*z");
+  EXPECT_EQ(f.parameters, (std::vector<std::string>{"NAN", "Params", "T", "errno", "gamma", "int", "int_"}));
+  EXPECT_EQ(parameter_fields(f),
+            (std::vector<std::string>{"NAN_", "Params_", "T_", "errno_", "gamma", "int_2", "int_"}));
+  std::string h = scene_header(f, "Renamed");
+  EXPECT_NE(h.find("T NAN_, Params_, T_, errno_, gamma, int_2, int_;"), std::string::npos) << h;
+  EXPECT_NE(h.find("c.int_2 * q<0>(x)"), std::string::npos) << h;
+  EXPECT_NE(h.find("c.int_ * q<0>(x)"), std::string::npos) << h;
+}
+
+// ---- meaning: the usual precedence (not GiNaC's parser's) --------------------------------------
+
+double eval(const std::string& K, double q, double p) {
+  return evaluate_k(parse_k(K), {{"q", q}, {"p", p}, {"z", 0.0}, {"t", 0.0}});
+}
+
+TEST(KFormulaGrammar, UsualPrecedence) {
+  const double q = 0.7, p = 1.3;
+  EXPECT_DOUBLE_EQ(eval("-q^2 + p", q, p), -(q * q) + p);
+  EXPECT_DOUBLE_EQ(eval("2*-q+3 + 0*p", q, p), -2 * q + 3);  // GiNaC's parser: 2*(3 - q)
+  EXPECT_DOUBLE_EQ(eval("q^-2*p", q, p), p / (q * q));       // GiNaC's parser: q^(-2p)
+  EXPECT_DOUBLE_EQ(eval("q - -p*q + 1", q, p), q + p * q + 1);  // GiNaC's parser: q + p*q - 1
+  EXPECT_DOUBLE_EQ(eval("q/2/p", q, p), q / (2 * p));
+  EXPECT_DOUBLE_EQ(eval("--q + p", q, p), q + p);
+  EXPECT_DOUBLE_EQ(eval("2^-q*p", q, p), std::pow(2.0, -q) * p);
+  EXPECT_DOUBLE_EQ(eval("(q+p)^(1/2)", q, p), std::sqrt(q + p));
+  EXPECT_DOUBLE_EQ(eval("q - p + q - p", q, p), 2 * q - 2 * p);
+  EXPECT_DOUBLE_EQ(eval("pi*q + p", q, p), 3.141592653589793 * q + p);
+  EXPECT_DOUBLE_EQ(eval("2.5e-1*q + 1E1*p", q, p), 0.25 * q + 10 * p);
+}
+
+// ---- precision: literals are the double nearest to what is written ----------------------------
+
+// The return statement of K.
+std::string body(const std::string& header) {
+  auto from = header.find("return ", header.find("static auto K("));
+  return header.substr(from, header.find(";\n", from) - from);
+}
+
+TEST(KFormulaPrecision, LiteralsAreTheNearestDouble) {
+  // exact rationals, one rounding at the end: 0.1 is 0.1, 0.1 + 0.2 is 0.3 (not 0.30000000000000004)
+  EXPECT_EQ(eval("0.1*q + 0*p", 1.0, 0.0), 0.1);
+  EXPECT_EQ(eval("(0.1 + 0.2)*q + 0*p", 1.0, 0.0), 0.3);
+  EXPECT_EQ(eval("0.30000000000000004*q + 0*p", 1.0, 0.0), 0.30000000000000004);
+  // in the generated code
+  std::string h = body(scene_header(
+      parse_k("0.1*q + 3.141592653589793238462643383279*p + 1e-3*q + (2/3)*p + 0.30000000000000004*q "
+              "+ 123456789012345678901234567890*p + 9007199254740993*q + 9007199254740993.0000001*p"),
+      "Literals"));
+  for (const char* literal : {"0.1 * q<0>(x)", "3.141592653589793 * p<0>(x)", "0.001 * q<0>(x)",
+                              "0.6666666666666666 * p<0>(x)", "0.30000000000000004 * q<0>(x)",
+                              "1.2345678901234568e+29 * p<0>(x)",
+                              "9007199254740992.0 * q<0>(x)",   // 2^53 + 1: a tie, to even
+                              "9007199254740994.0 * p<0>(x)"})  // just above the tie
+    EXPECT_NE(h.find(literal), std::string::npos) << literal << " not in: " << h;
+}
+
+// GiNaC's value at random points against the formula written in double arithmetic.
+TEST(KFormulaPrecision, ReferenceMatchesDirectEvaluation) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  KFormula duffing = parse_k("p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z");
+  KFormula kepler = parse_k("(p1^2+p2^2)/2 - 1/sqrt(q1^2+q2^2) - alpha*sin(theta*t)*z");
+  for (int k = 0; k < 20; ++k) {
+    double q = u(rng), p = u(rng), z = u(rng), t = u(rng), F = 0.1, Om = 1.2566370614359172, d = 0.25;
+    std::map<std::string, double> v{{"q", q}, {"p", p}, {"z", z}, {"t", t}, {"F", F}, {"Omega", Om}, {"delta", d}};
+    double K = p * p / 2 - q * q / 2 + q * q * q * q / 4 - F * q * std::cos(Om * t) - d * z;
+    double scale = p * p / 2 + q * q / 2 + q * q * q * q / 4 + std::fabs(F * q) + std::fabs(d * z);
+    EXPECT_NEAR(evaluate_k(duffing, v), K, 4e-16 * scale);
+    EXPECT_NEAR(evaluate_k(duffing, v, "q"), -q + q * q * q - F * std::cos(Om * t), 1e-15);
+    EXPECT_EQ(evaluate_k(duffing, v, "p"), p);
+    EXPECT_EQ(evaluate_k(duffing, v, "z"), -d);
+
+    double q1 = u(rng), q2 = u(rng), p1 = u(rng), p2 = u(rng), a = 0.01, th = 0.5;
+    std::map<std::string, double> w{{"q1", q1}, {"q2", q2}, {"p1", p1}, {"p2", p2}, {"z", z},
+                                    {"t", t}, {"alpha", a}, {"theta", th}};
+    double r = std::sqrt(q1 * q1 + q2 * q2);
+    double Kk = (p1 * p1 + p2 * p2) / 2 - 1 / r - a * std::sin(th * t) * z;
+    EXPECT_NEAR(evaluate_k(kepler, w), Kk, 1e-15 * ((p1 * p1 + p2 * p2) / 2 + 1 / r + 1));
+    EXPECT_NEAR(evaluate_k(kepler, w, "q1"), q1 / (r * r * r), 1e-15 * (1 + 1 / (r * r)));
+  }
+}
+
+TEST(KFormulaPrecision, MissingValueNamesIt) {
+  KFormula f = parse_k("p^2/2 - gamma*z");
+  try {
+    evaluate_k(f, {{"p", 1.0}, {"z", 0.0}});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gamma"), std::string::npos) << e.what();
+  }
+}
+
+// ---- the generated header ----------------------------------------------------------------------
+
+// Every number in generated code is a double literal: a number token (not a digit inside a name,
+// nor the index of q<0>) has a '.' or an exponent.
+void expect_no_int_literals(const std::string& code) {
+  auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    if (!is_digit(code[i])) continue;
+    if (i > 0 && (is_name_char(code[i - 1]) || code[i - 1] == '<')) {
+      while (i + 1 < code.size() && is_name_char(code[i + 1])) ++i;  // the rest of the name
+      continue;
+    }
+    std::size_t j = i;
+    while (j < code.size() && (is_digit(code[j]) || code[j] == '.')) ++j;
+    if (j < code.size() && (code[j] == 'e' || code[j] == 'E')) {
+      ++j;
+      if (code[j] == '+' || code[j] == '-') ++j;
+      while (j < code.size() && is_digit(code[j])) ++j;
+    }
+    std::string number = code.substr(i, j - i);
+    EXPECT_NE(number.find_first_of(".eE"), std::string::npos) << "int literal " << number << " in " << code;
+    i = j;
+  }
+}
+
+TEST(KFormulaHeader, ForcedDuffing) {
+  KFormula f = parse_k("p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z");
+  std::string h = scene_header(f, "ForcedDuffing");
+  for (const char* s : {
+           "// Generated by contactsweep from scene.K = \"p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z\"\n",
+           "#pragma once", "#include \"physics/dual_math.hpp\"", "#include \"physics/scene_bounds.hpp\"",
+           "#include \"physics/scene_concept.hpp\"", "namespace cs {", "struct ForcedDuffing {",
+           "static constexpr int dof = 1;", "static constexpr bool z_feeds_back = false;",
+           "static constexpr bool kz_constant = true;", "static constexpr bool time_dependent = true;",
+           "static constexpr bool p_in_forces = false;", "static constexpr ZPart z_part = ZPart::linear;",
+           "T F, Omega, delta;", "static Params<T> params_from(const T* v) { return {v[0], v[1], v[2]}; }",
+           "static auto K(const X& x, const Params<T>& c) {", "half_square(p<0>(x))", "q<0>(x)",
+           "c.Omega * t(x)", "cos(", "c.delta * z(x)", "square(square(q<0>(x))) / 4.0",
+           "return beyond_bound<dof>(q, p);"})
+    EXPECT_NE(h.find(s), std::string::npos) << s << " not in:\n" << h;
+  expect_no_int_literals(body(h));
+  EXPECT_EQ(h.find("1/2"), std::string::npos);
+  EXPECT_EQ(h.find("std::"), std::string::npos);  // unqualified: dual_math.hpp's overloads
+}
+
+TEST(KFormulaHeader, NoParametersStillHaveOneField) {
+  std::string h = scene_header(parse_k("p^2/2 + q^6/6 - (2/t)*z"), "LaneEmden");
+  EXPECT_NE(h.find("T none_;"), std::string::npos) << h;
+  EXPECT_NE(h.find("static Params<T> params_from(const T*) { return {T{}}; }"), std::string::npos) << h;
+  EXPECT_NE(h.find("static auto K(const X& x, const Params<T>&) {"), std::string::npos) << h;
+  EXPECT_NE(h.find("2.0 / t(x) * z(x)"), std::string::npos) << h;
+  EXPECT_NE(h.find("static constexpr bool kz_constant = false;"), std::string::npos) << h;
+  expect_no_int_literals(body(h));
+}
+
+TEST(KFormulaHeader, PowersAndFunctions) {
+  std::string h = body(scene_header(
+      parse_k("(p1^2+p2^2)/2 - 1/sqrt(q1^2+q2^2) + q1^3 + (q1+q2)^5 + q2^(-2) + q1^(3/2) + q2^0.3 "
+              "+ 2^q1 + abs(p2) + exp(-t)*z^2"),
+      "Powers"));
+  for (const char* s : {"(square(p<0>(x)) + square(p<1>(x))) / 2.0",
+                        "1.0 / sqrt(square(q<0>(x)) + square(q<1>(x)))", "square(q<0>(x)) * q<0>(x)",
+                        "[](const auto& u) { return square(square(u)) * u; }(q<0>(x) + q<1>(x))",
+                        "1.0 / square(q<1>(x))", "q<0>(x) * sqrt(q<0>(x))", "pow(q<1>(x), 0.3)",
+                        "pow(2.0, q<0>(x))", "abs(p<1>(x))", "exp(-t(x)) * square(z(x))"})
+    EXPECT_NE(h.find(s), std::string::npos) << s << " not in:\n" << h;
+  expect_no_int_literals(h);
+}
+
+TEST(KFormulaHeader, CoupledAndQuadratic) {
+  std::string d = scene_header(
+      parse_k("(p1^2 + omega1_sq*q1^2)/2 + (p2^2 + omega2_sq*q2^2)/2 + g*q1^2*q2^2 - gamma*z"), "Coupled");
+  EXPECT_NE(d.find("static constexpr int dof = 2;"), std::string::npos);
+  EXPECT_NE(d.find("c.g * square(q<0>(x)) * square(q<1>(x))"), std::string::npos) << d;
+  std::string b = scene_header(parse_k("(p^2 + omega^2*q^2)/2 - gamma*z^2"), "Z2");
+  EXPECT_NE(b.find("static constexpr ZPart z_part = ZPart::quadratic;"), std::string::npos) << b;
+  EXPECT_NE(b.find("c.gamma * square(z(x))"), std::string::npos) << b;
+  std::string n = scene_header(parse_k("p^2/2 + q*z"), "NotSplit");
+  EXPECT_EQ(n.find("z_part"), std::string::npos) << n;
+}
+
+// The text depends on K alone, not on what the process parsed before (GiNaC orders terms by
+// symbol serial numbers): same K, same kernel, same bits on every rank and on --resume.
+TEST(KFormulaHeader, SameTextWhateverCameBefore) {
+  const std::string K = "p^2/2 + (q - a)^3 + (b - q)^3 + sin(a - q)*z - gamma*z + c*(q1_ + q)";
+  KFormula f = parse_k(K);
+  std::string first = scene_header(f, "S");
+  for (const char* other : {"p^2/2 + b*a*q + c*z", "a*b*c*q1_*gamma*p", "(q1 - q2)^3 + p1"}) parse_k(other);
+  EXPECT_EQ(scene_header(parse_k(K), "S"), first);
+}
+
+TEST(KFormulaHeader, TextIsEscapedInTheComment) {
+  std::string h = scene_header(parse_k("p^2/2\n + q^2/2"), "Multi");
+  EXPECT_EQ(h.rfind("// Generated by contactsweep from scene.K = \"p^2/2\\n + q^2/2\"\n", 0), 0u) << h;
+}
+
+TEST(KFormulaHeader, StructNameMustBeAnIdentifier) {
+  KFormula f = parse_k("p^2/2");
+  EXPECT_THROW(scene_header(f, "not a name"), std::invalid_argument);
+  EXPECT_THROW(scene_header(f, "class"), std::invalid_argument);
+  EXPECT_NO_THROW(scene_header(f, "Custom_1"));
+}
+
+}  // namespace
+}  // namespace cs
