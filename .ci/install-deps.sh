@@ -11,6 +11,7 @@ packages=(
   # libraries (parallel HDF5 must match the MPI implementation: Open MPI)
   libeigen3-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libfmt-dev
+  libginac-dev  # K in the spec: parsed to GiNaC expressions, derivatives for its traits
   # post-processing and tests/test_post.py (Debian's /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib python3-xarray python3-h5netcdf
   # clang + its runtime (libFuzzer, sanitizers) for fuzzing

@@ -58,7 +58,7 @@ void check_tile_against_scalar_steps() {
   }
   LaneState<D> x0{};
   auto uniform_coef = M::coefficients<S>(0.01, uniform, x0);
-  advance<S, M, carry, Uniform>(*tile, steps, uniform, uniform_coef, [](int) {});
+  advance<S, M, carry, Uniform>(*tile, steps, uniform, uniform_coef, 0.0, 0.01, [](int) {});
   for (int i = 0; i < W; ++i) {
     auto x = lanes[i];
     const auto& c = Uniform ? uniform : params[i];

@@ -24,6 +24,7 @@
 #include "support/exact_damped_oscillator.hpp"
 #include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
+#include "support/time_dependent_scenes.hpp"
 #include "support/run_in_memory.hpp"
 
 namespace cs {
@@ -283,6 +284,92 @@ TYPED_TEST(Methods, LongTimeHOnSceneA) {
   }
 }
 
+// ---- time-dependent K: forcing and damping that change with t ---------------------------------
+
+// Integrates from t0 with the lane's time t0 + n·h (as the kernel sets it) and returns the
+// largest errors in q, p and ln λ against `exact` at t0 + 1, …, t0 + 10.
+template <class M, class S, class Exact>
+Errors time_dependent_errors(double h, const ParamsOf<S, double>& c, double t0, double q0,
+                             double p0, Exact exact) {
+  LaneState<1> x{};
+  x.q[0] = q0, x.p[0] = p0, x.z = 1.0, x.t = t0;
+  M::template start<S>(x, c);
+  const auto k = M::template coefficients<S>(h, c, x);
+  const auto per_unit = std::llround(1.0 / h);
+  Errors e{0, 0, 0, 0};
+  std::int64_t n = 0;
+  for (int unit = 1; unit <= 10; ++unit) {
+    for (long i = 0; i < per_unit; ++i, ++n) {
+      x.t = t0 + static_cast<double>(n) * h;
+      M::template step<S, kAll>(x, c, k);
+    }
+    const auto ex = exact(t0 + static_cast<double>(n) * h);
+    e.q = std::max(e.q, std::fabs(x.q[0] - ex.q));
+    e.p = std::max(e.p, std::fabs(x.p[0] - ex.p));
+    e.log_lambda = std::max(e.log_lambda, std::fabs(x.mu - ex.log_lambda));
+  }
+  return e;
+}
+
+// Three halvings; each must show the method's order in q, p and (where it is not exact) ln λ.
+// A method that took K at the wrong time in any sub-step would drop to order 1 (a time error
+// δt in a force of size F leaves F·δt per step), which ±0.25 tells apart from 2.
+template <class M>
+void expect_order(const std::vector<Errors>& e, bool log_lambda_exact) {
+  const int order = catalog_order<M>();
+  for (std::size_t i = 0; i + 1 < e.size(); ++i) {
+    SCOPED_TRACE("halving " + std::to_string(i));
+    const double tolerance = order == 2 ? 0.1 : 0.25;
+    EXPECT_NEAR(std::log2(e[i].q / e[i + 1].q), order, tolerance) << e[i].q << " " << e[i + 1].q;
+    EXPECT_NEAR(std::log2(e[i].p / e[i + 1].p), order, tolerance) << e[i].p << " " << e[i + 1].p;
+    if (!log_lambda_exact) {
+      EXPECT_NEAR(std::log2(e[i].log_lambda / e[i + 1].log_lambda), order, tolerance)
+          << e[i].log_lambda << " " << e[i + 1].log_lambda;
+    }
+  }
+}
+
+TYPED_TEST(Methods, ObservedOrderWithTimeDependentForcing) {
+  using M = TypeParam;
+  using S = test::ForcedOscillator;
+  const ParamsOf<S, double> c{1.0, 0.1, 0.5, 1.3};
+  const double t0 = 0.7;  // a start away from 0 shows a time that is off by t0
+  const int order = catalog_order<M>();
+  const double h0 = order == 6 ? 0.2 : 0.1;
+  std::vector<Errors> e;
+  for (int i = 0; i < 4; ++i)
+    e.push_back(time_dependent_errors<M, S>(h0 / (1 << i), c, t0, 1.0, 0.0, [&](double t) {
+      return S::exact(c, t0, 1.0, 0.0, t);
+    }));
+  expect_order<M>(e, Traits<M>::exact_log_lambda);
+  if (Traits<M>::exact_log_lambda) {  // K_z = −γ: round-off only, as on scene A
+    for (std::size_t i = 0; i < e.size(); ++i)
+      EXPECT_LE(e[i].log_lambda, 10.0 / (h0 / (1 << i)) * 0x1p-52);
+  }
+}
+
+TYPED_TEST(Methods, ObservedOrderWithTimeDependentDamping) {
+  using M = TypeParam;
+  using S = test::LaneEmden5;
+  const double t0 = 1.0;  // the damping 2/t is singular at t = 0
+  const auto start = S::exact(t0, t0);
+  const int order = catalog_order<M>();
+  const double h0 = order == 6 ? 0.2 : 0.1;
+  std::vector<Errors> e;
+  for (int i = 0; i < 4; ++i)
+    e.push_back(time_dependent_errors<M, S>(h0 / (1 << i), {0.0}, t0, start.q, start.p,
+                                            [&](double t) { return S::exact(t, t0); }));
+  // K_z = −2/t varies. The hybrid leap-frog's factors a = 1 + h/t_n and b = t_n/(t_n + h) give
+  // ln a − ln b = 2 ln(t_{n+1}/t_n): ln λ = 2 ln(t/t0) exactly, up to round-off of ≤ 3 logs a
+  // step. The other methods approximate ∫2/t with their own order.
+  constexpr bool exact = std::is_same_v<M, HybridLeapfrog>;
+  expect_order<M>(e, exact);
+  if (exact) {
+    for (std::size_t i = 0; i < e.size(); ++i)
+      EXPECT_LE(e[i].log_lambda, 3.0 * 10.0 / (h0 / (1 << i)) * 0x1p-52);
+  }
+}
+
 // ---- all methods agree on every scene as h shrinks --------------------------------------------
 
 // The reference is contact_splitting6 at h = 0.001; RK4 at the same h, an independent method,
@@ -378,17 +465,17 @@ void expect_sum_of_parts(const ParamsOf<S, double>& c) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   for (int trial = 0; trial < 100; ++trial) {
-    double q[S::dof], p[S::dof], z = u(rng);
+    double q[S::dof], p[S::dof], z = u(rng), t = 3.0 + u(rng);  // t > 0: Lane–Emden's 2/t
     double kinetic = 0.0;
     for (int d = 0; d < S::dof; ++d) q[d] = u(rng), p[d] = u(rng), kinetic += 0.5 * p[d] * p[d];
-    const double k = z_coefficient<S>(c);
+    const double k = z_coefficient<S>(c, t);
     const double zpart = S::z_part == ZPart::linear ? k * z : k * z * z;
-    const double whole = K<S>(q, p, z, c), parts = kinetic + potential<S>(q, c) + zpart;
+    const double whole = K<S>(q, p, z, c, t), parts = kinetic + potential<S>(q, c, t) + zpart;
     // Terms of size ≲ 30 summed in a different order: a few ulps of 30.
     EXPECT_NEAR(whole, parts, 1e-13) << "trial " << trial;
     double v, force;
-    potential_and_force<S, 0>(q, c, v, force);
-    EXPECT_EQ(force, (K_q<S, 0>(q, p, z, c)));  // K_q ignores p and z: separable
+    potential_and_force<S, 0>(q, c, t, v, force);
+    EXPECT_EQ(force, (K_q<S, 0>(q, p, z, c, t)));  // K_q ignores p and z: separable
   }
 }
 
@@ -397,8 +484,12 @@ TEST(SplitParts, EachSplittableSceneIsTheSumOfItsParts) {
   expect_sum_of_parts<Z2Damping>({1.3, 0.2});
   expect_sum_of_parts<DoubleWell>({0.8, 0.2});
   expect_sum_of_parts<CoupledOscillators>({1.2, 0.8, 0.7, 0.05});
-  EXPECT_EQ(z_coefficient<Z2Damping>(ParamsOf<Z2Damping, double>{1.0, 0.2}), -0.2);
-  EXPECT_EQ(z_coefficient<DampedOscillator>(ParamsOf<DampedOscillator, double>{1.0, 0.2}), -0.2);
+  expect_sum_of_parts<test::ForcedOscillator>({1.0, 0.1, 0.5, 1.3});
+  expect_sum_of_parts<test::LaneEmden5>({0.0});
+  EXPECT_EQ(z_coefficient<Z2Damping>(ParamsOf<Z2Damping, double>{1.0, 0.2}, 0.0), -0.2);
+  EXPECT_EQ(z_coefficient<DampedOscillator>(ParamsOf<DampedOscillator, double>{1.0, 0.2}, 0.0),
+            -0.2);
+  EXPECT_EQ(z_coefficient<test::LaneEmden5>(ParamsOf<test::LaneEmden5, double>{0.0}, 4.0), -0.5);
 }
 
 // Σw = 1 (consistency) and Σw³ = 0 (the order-3 error of symmetric S₂'s cancels), to round-off

@@ -28,6 +28,7 @@ class BlockRunner {
   static constexpr int W = 64;
   static constexpr int D = S::dof;
   static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
+  static constexpr int kParamSlots = sizeof(ParamsOf<S, double>) / sizeof(double);
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
@@ -46,7 +47,10 @@ class BlockRunner {
   BlockRunner(const RunPlan& plan, BlockResults& out) : plan_(plan), out_(out) {
     const auto& base = plan.grid.base_parameters();
     uniform_params_ = S::params_from(base.data());
+    t_start_ = plan.spec.t_start;
+    h_ = plan.spec.h;
     LaneState<D> x{};
+    x.t = t_start_;
     uniform_coef_ = Method::template coefficients<S>(plan.spec.h, uniform_params_, x);
     steps_ = plan.spec.steps;
     remainder_ = static_cast<int>(steps_ % plan.chunk);
@@ -77,13 +81,17 @@ class BlockRunner {
 
   LaneState<D> make_idle_lane() const {
     LaneState<D> x{};
-    double params[16], state[16];
+    double params[kParamSlots], state[kMaxVars];
     plan_.grid.point(out_.range.begin - plan_.point_offset, params, state);
     load_state(x, state);
+    x.t = t_start_;
     Params c = S::params_from(params);
     Method::template start<S>(x, c);
     return x;
   }
+
+  // A lane's time after n steps, computed as the kernel does (lane_tile.hpp).
+  double time_at(std::int64_t n) const { return t_start_ + static_cast<double>(n) * h_; }
 
   static void load_state(LaneState<D>& x, const double* state) {
     for (int d = 0; d < D; ++d) x.q[d] = state[d], x.p[d] = state[D + d];
@@ -96,6 +104,7 @@ class BlockRunner {
     t.set_lane(i, idle_);
     t.set_parameters(i, uniform_params_, uniform_coef_);
     book[i] = Book{};
+    t.steps_done[i] = 0.0;
     if (&t == &main_) {
       steps_done_[i] = 0;
       countdown_[i] = std::numeric_limits<int>::max();
@@ -135,10 +144,11 @@ class BlockRunner {
 
   // Puts point `k` into main slot i; false when it is finished at once (breakdown at t = 0).
   bool load(int i, std::int64_t k) {
-    double params[16], state[16];
+    double params[kParamSlots], state[kMaxVars];
     plan_.grid.point(k - plan_.point_offset, params, state);
     LaneState<D> x{};
     load_state(x, state);
+    x.t = t_start_;
     Params c = S::params_from(params);
     Method::template start<S>(x, c);
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
@@ -168,13 +178,14 @@ class BlockRunner {
   // ---- stepping ------------------------------------------------------------------------------
 
   void advance_tile(Tile& t, int steps) {
-    advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, [](int) {});
+    advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, t_start_, h_,
+                                       [](int) {});
   }
 
   // Which lanes need a closer look after a chunk: failed, trapped in a well, or due for a
   // sample or the end. Branch-free over the tile so that it vectorises like the step.
   void screen() {
-    const Tile& t = main_;
+    Tile& t = main_;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
       int healthy = t.broken[i] <= 0.0;
@@ -187,6 +198,7 @@ class BlockRunner {
       }
       countdown_[i] -= 1;
       steps_done_[i] += plan_.chunk;
+      t.steps_done[i] += plan_.chunk;
       attention_[i] = (!healthy) | trapped | (countdown_[i] <= 0);
     }
   }
@@ -214,6 +226,7 @@ class BlockRunner {
       b.n = steps_done_[i];
       countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
+      x.t = time_at(b.n);
       const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
@@ -235,6 +248,7 @@ class BlockRunner {
     int j = fin_count_++;
     fin_.set_lane(j, main_.lane(i));
     fin_.set_parameters(j, main_.params(i), main_.coef(i));
+    fin_.steps_done[j] = main_.steps_done[i];
     fin_book_[j] = main_book_[i];
     clear(main_, main_book_, i);
     --active_;
@@ -246,6 +260,7 @@ class BlockRunner {
       Book& b = fin_book_[j];
       b.n += remainder_;
       LaneState<D> x = fin_.lane(j);
+      x.t = time_at(b.n);
       LaneStatus status = LaneStatus::ok;
       lane_failed(x, status);
       const Params c = fin_.params(j);
@@ -291,7 +306,7 @@ class BlockRunner {
       double energy = 0.5 * (x.p[0] * x.p[0]) + 0.5 * (well * well);  // as in screen()
       if (energy < trap_energy(c)) {
         b.trapped = true;
-        b.settle_time = static_cast<double>(b.n) * plan_.spec.h;
+        b.settle_time = time_at(b.n);
       }
     }
   }
@@ -307,7 +322,7 @@ class BlockRunner {
     v[2 * D] = x.z;
     v[2 * D + 1] = x.mu;
     // λK in the log domain: late in a damped run λ overflows while K underflows.
-    double k = K<S>(x.q, x.p, x.z, c);
+    double k = K<S>(x.q, x.p, x.z, c, x.t);
     H = k == 0.0 ? 0.0 : std::copysign(std::exp(x.mu + std::log(std::fabs(k))), k);
   }
 
@@ -376,6 +391,7 @@ class BlockRunner {
   Coef uniform_coef_{};
   LaneState<D> idle_{};
   std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
+  double t_start_ = 0.0, h_ = 0.0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
   bool basin_early_stop_ = true;
   Tile main_{}, fin_{};

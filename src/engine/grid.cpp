@@ -30,15 +30,4 @@ Grid::Grid(const RunSpec& spec, const SceneInfo& scene) {
   size_ = stride;
 }
 
-void Grid::point(std::int64_t index, double* params, double* state) const {
-  std::copy(base_params_.begin(), base_params_.end(), params);
-  std::copy(base_state_.begin(), base_state_.end(), state);
-  for (const auto& axis : axes_) {
-    if (axis.slot < 0) continue;
-    auto n = static_cast<std::int64_t>(axis.values->size());
-    double v = (*axis.values)[static_cast<std::size_t>((index / axis.stride) % n)];
-    (axis.is_parameter ? params : state)[axis.slot] = v;
-  }
-}
-
 }  // namespace cs

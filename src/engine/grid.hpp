@@ -2,6 +2,7 @@
 // Points are numbered row-major over the spec's axes (the first axis varies slowest).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -19,8 +20,17 @@ class Grid {
   int variable_count() const { return static_cast<int>(base_state_.size()); }
 
   // Scene parameters (catalog order) and initial state (catalog variable order: q.., p.., z,
-  // lambda) of one point.
-  void point(std::int64_t index, double* params, double* state) const;
+  // lambda) of one point. Inline: kernels built at run time (kernel_build/) call it too.
+  void point(std::int64_t index, double* params, double* state) const {
+    std::copy(base_params_.begin(), base_params_.end(), params);
+    std::copy(base_state_.begin(), base_state_.end(), state);
+    for (const auto& axis : axes_) {
+      if (axis.slot < 0) continue;
+      auto n = static_cast<std::int64_t>(axis.values->size());
+      double v = (*axis.values)[static_cast<std::size_t>((index / axis.stride) % n)];
+      (axis.is_parameter ? params : state)[axis.slot] = v;
+    }
+  }
 
   // True when no axis is a scene parameter: every point shares base_parameters().
   bool uniform_parameters() const { return uniform_params_; }

@@ -31,6 +31,8 @@ struct LaneTile {
   alignas(64) double mu[W];
   alignas(64) double kq[D][W];
   alignas(64) double broken[W];
+  alignas(64) double steps_done[W];  // each lane's step count n at the start of advance(),
+                                     // kept by the runner for time-dependent scenes only
   // Per-lane parameters and method coefficients (used when not uniform), stored field by field:
   // the lane loop then reads each field with contiguous loads and vectorises. Stored as arrays
   // of structs (strided loads) they made per-lane runs (a grid axis over a scene parameter: g, gamma, a, omega) about
@@ -83,10 +85,12 @@ struct LaneTile {
 
 // Advance every lane of the tile by `steps` steps, calling after_step(s) after step s.
 // Parameters come from `uniform` (one set for all lanes) when Uniform, else from the tile.
+// A time-dependent scene's lane is at time t_start + n·h, n from its own step count: the same
+// bits wherever the lane runs, and no drift from adding h up.
 template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
 inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, double>& uniform,
-                    const typename Method::template Coef<double>& uniform_coef,
-                    AfterStep&& after_step) {
+                    const typename Method::template Coef<double>& uniform_coef, double t_start,
+                    double h, AfterStep&& after_step) {
   constexpr int D = S::dof;
   const ParamsOf<S, double> c0 = uniform;
   const auto k0 = uniform_coef;
@@ -98,6 +102,8 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
       if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
       if constexpr (!S::kz_constant) x.broken = t.broken[i]; else x.broken = 0.0;
+      if constexpr (time_dependent<S>()) x.t = t_start + (t.steps_done[i] + s) * h;
+      else x.t = 0.0;
       if constexpr (Uniform) {
         Method::template step<S, carry>(x, c0, k0);
       } else {

@@ -91,7 +91,7 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     auto every = measures.trajectory->every;
     samples = spec.steps / every + 1;
     for (std::int64_t k = 0; k < samples; ++k)
-      sample_times.push_back(static_cast<double>(k * every) * spec.h);
+      sample_times.push_back(spec.t_start + static_cast<double>(k * every) * spec.h);
     for (std::size_t i = 0; i < nvars; ++i) {
       const auto& v = scene.variables[i];
       map.traj_vars[i] = add({"traj_" + dataset_variable(v.name), ElementType::float64, true,
@@ -114,8 +114,10 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
 
   if (measures.sync) {
     // The window's ends, rounded inwards to the looks at the lanes.
-    auto first = static_cast<std::int64_t>(std::ceil(measures.sync->window_from / spec.h - 1e-9));
-    auto last = static_cast<std::int64_t>(std::floor(measures.sync->window_to / spec.h + 1e-9));
+    const double from = measures.sync->window_from - spec.t_start;
+    const double to = measures.sync->window_to - spec.t_start;
+    auto first = static_cast<std::int64_t>(std::ceil(from / spec.h - 1e-9));
+    auto last = static_cast<std::int64_t>(std::floor(to / spec.h + 1e-9));
     sync_first_step = (first + chunk - 1) / chunk * chunk;
     sync_last_step = last / chunk * chunk;
     // One look would give a phase-locking value of 1 and no frequencies: meaningless numbers.
@@ -156,7 +158,7 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
   for (std::size_t i = 0; i < hs.size(); ++i) {
     auto slice = std::make_unique<RunSpec>(spec);
     slice->h = hs[i];
-    slice->steps = std::llround(spec.t_end / hs[i]);  // whole: checked by the parser
+    slice->steps = std::llround((spec.t_end - spec.t_start) / hs[i]);  // whole: checked
     slice->axes.erase(slice->axes.begin());
     plans.push_back(std::make_unique<RunPlan>(*slice, scene, method));
     plans.back()->point_offset = static_cast<std::int64_t>(i) * slice_points;
@@ -195,6 +197,7 @@ void run_scene(const RunPlan& plan, BlockResults& results) {
 }  // namespace
 
 void run_block(const RunPlan& plan, BlockResults& results) {
+  if (plan.custom_kernel != nullptr) return plan.custom_kernel(plan, results);
   const auto& method = plan.method.name;
   if (method == "hybrid_leapfrog") return run_scene<HybridLeapfrog>(plan, results);
   if (method == "symmetric_leapfrog") return run_scene<SymmetricLeapfrog>(plan, results);

@@ -52,6 +52,9 @@ struct RunPlan {
   // Flat index of this plan's first point in the whole grid: a run over several step sizes
   // has one plan per h, each for its contiguous slice of the grid (step_size_slices).
   std::int64_t point_offset = 0;
+  // The kernel of a custom scene (kernel_build/), built and loaded for this run; built-in
+  // scenes are dispatched by name instead.
+  void (*custom_kernel)(const RunPlan&, BlockResults&) = nullptr;
 
   RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
 };

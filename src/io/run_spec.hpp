@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -52,15 +53,19 @@ struct Measures {
   std::optional<SyncMeasure> sync;
 };
 
+struct CustomScene;  // formula/custom_scene.hpp
+
 struct RunSpec {
   std::string title;
-  std::string scene;                         // a name from scene_catalog()
+  std::string scene;                         // a name from scene_catalog(), or a custom label
+  std::shared_ptr<const CustomScene> custom; // set when the spec writes K itself
   std::map<std::string, double> parameters;  // every scene parameter (defaults filled in)
   std::map<std::string, double> initial;     // every state variable (defaults filled in)
   std::string method;                        // a name from method_catalog()
   double h = 0.0;
+  double t_start = 0.0;                      // the time of the initial state
   double t_end = 0.0;
-  std::int64_t steps = 0;                    // t_end / h, a whole number (checked)
+  std::int64_t steps = 0;                    // (t_end − t_start) / h, a whole number (checked)
   std::vector<GridAxis> axes;                // first varies slowest; empty: one trajectory
   Measures measures;
   std::string spec_text;                     // the TOML after --set, as stored in the output

@@ -20,6 +20,7 @@
 
 #include "io/memory_budget.hpp"
 #include "numerics/method_catalog.hpp"
+#include "formula/custom_scene.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs {
@@ -380,6 +381,12 @@ class SpecReader {
            fmt::format("missing [scene] section with name = one of: {}", fmt::join(scenes, ", ")));
     const toml::table& t = table(*node, "scene");
     const toml::node* name = t.get("name");
+    if (const toml::node* k = t.get("K")) {
+      if (name != nullptr)
+        fail(name, "[scene] has both name and K: write name for a built-in scene or K for your "
+                   "own, not both");
+      return read_custom_scene(t, *k);
+    }
     if (name == nullptr)
       fail(node, fmt::format("scene.name is missing; valid scenes: {}", fmt::join(scenes, ", ")));
     spec_.scene = string(*name, "scene.name");
@@ -392,6 +399,40 @@ class SpecReader {
     check_keys(t, "scene", allowed);
     for (const ParameterInfo& p : scene_->parameters)
       spec_.parameters[p.name] = number_or(t, "scene", p.name, p.paper_value);
+  }
+
+  // [scene] K = "...": every symbol of K that is not a variable is a parameter valued here, and
+  // every other key must be a parameter of K (or label).
+  void read_custom_scene(const toml::table& t, const toml::node& k) {
+    const std::string text = string(k, "scene.K");
+    const toml::node* label = t.get("label");
+    const std::string name = label != nullptr ? string(*label, "scene.label") : "custom";
+    if (name.empty()) fail(label, "scene.label is empty: expected a name for the output's scene");
+    try {
+      spec_.custom = make_custom_scene(text, name);
+    } catch (const InputError& e) {
+      fail(&k, e.what());
+    }
+    spec_.scene = name;
+    scene_ = &spec_.custom->info;
+    const Names parameters = parameter_names(*scene_);
+    for (const std::string& p : parameters)
+      if (t.get(p) == nullptr)
+        fail(&k, fmt::format("scene.K: symbol '{}' is neither a variable ({}, z, t, pi) nor a "
+                             "parameter valued in [scene]: add {} = <number> under [scene]",
+                             p, fmt::join(variable_names(*scene_), ", "), p));
+    for (const auto& [key, value] : t) {
+      const std::string_view k_name = key.str();
+      if (k_name == "K" || k_name == "label" || contains(parameters, std::string(k_name))) continue;
+      fail(&value, fmt::format("scene.{} is not a symbol of K, so it would have no effect; K's "
+                               "parameters: {}",
+                               k_name, parameters.empty() ? "none" : fmt::format("{}", fmt::join(parameters, ", "))));
+    }
+    for (const std::string& p : parameters) {
+      const double value = number(*t.get(p), "scene." + p);
+      if (!std::isfinite(value)) fail_value(*t.get(p), "scene." + p, "a finite number");
+      spec_.parameters[p] = value;
+    }
   }
 
   void read_initial() {
@@ -415,12 +456,20 @@ class SpecReader {
 
   void read_integrator() {
     const toml::table& t = section("integrator");
-    check_keys(t, "integrator", {"method", "h", "t_end"});
+    check_keys(t, "integrator", {"method", "h", "t_end", "t_start"});
     read_method(t);
     spec_.h = number_or(t, "integrator", "h", scene_->default_h);
-    spec_.t_end = number_or(t, "integrator", "t_end", scene_->default_t_end);
+    spec_.t_start = number_or(t, "integrator", "t_start", 0.0);
+    spec_.t_end = number_or(t, "integrator", "t_end", spec_.t_start + scene_->default_t_end);
     if (!(spec_.h > 0.0)) fail_value(*t.get("h"), "integrator.h", "a number > 0");
-    if (!(spec_.t_end > 0.0)) fail_value(*t.get("t_end"), "integrator.t_end", "a number > 0");
+    if (!std::isfinite(spec_.t_start))
+      fail_value(*t.get("t_start"), "integrator.t_start", "a finite number");
+    if (spec_.t_start == 0.0 && !(spec_.t_end > 0.0))
+      fail_value(*t.get("t_end"), "integrator.t_end", "a number > 0");
+    if (!(spec_.t_end > spec_.t_start))
+      fail(t.get("t_end") != nullptr ? t.get("t_end") : t.get("t_start"),
+           fmt::format("integrator.t_end = {} is not after integrator.t_start = {}", spec_.t_end,
+                       spec_.t_start));
     spec_.steps = whole_steps(t.get("t_end") != nullptr ? t.get("t_end") : t.get("h"));
   }
 
@@ -449,21 +498,30 @@ class SpecReader {
     return usable;
   }
 
-  // t_end / h as a whole number of steps; `at` is the node to blame (t_end, else h, else none).
+  // How messages name the run's duration: plain t_end for the common start at 0.
+  std::string duration_name() const {
+    return spec_.t_start == 0.0 ? "t_end" : "t_end - t_start";
+  }
+
+  // (t_end − t_start) / h as a whole number of steps; `at` is the node to blame (t_end, else h,
+  // else none).
   std::int64_t whole_steps(const toml::node* at) const {
-    const double h = spec_.h, t_end = spec_.t_end, ratio = t_end / h;
-    if (t_end < h)
-      fail(at, fmt::format("integrator.t_end = {} is shorter than one step h = {}", t_end, h));
+    const double h = spec_.h, t0 = spec_.t_start, duration = spec_.t_end - t0;
+    const double ratio = duration / h;
+    const std::string span = duration_name();
+    if (duration < h)
+      fail(at, fmt::format("integrator.{} = {} is shorter than one step h = {}", span, duration, h));
     if (!(ratio <= kMaxSteps))
-      fail(at, fmt::format("integrator.t_end / h = {:.6g} steps: expected at most 2^53", ratio));
+      fail(at, fmt::format("integrator.{} / h = {:.6g} steps: expected at most 2^53", span, ratio));
     const std::int64_t steps = std::llround(ratio);
-    if (std::abs(static_cast<double>(steps) * h - t_end) <= kStepTolerance * t_end) return steps;
+    if (std::abs(static_cast<double>(steps) * h - duration) <= kStepTolerance * duration)
+      return steps;
     const auto below = static_cast<std::int64_t>(std::floor(ratio));
-    fail(at, fmt::format("integrator.t_end = {} is not a whole number of steps of h = {} "
-                         "(t_end / h = {:.12g}); nearest valid t_end: {:.15g} ({} steps) or "
+    fail(at, fmt::format("integrator.{} = {} is not a whole number of steps of h = {} "
+                         "({} / h = {:.12g}); nearest valid t_end: {:.15g} ({} steps) or "
                          "{:.15g} ({} steps)",
-                         t_end, h, ratio, static_cast<double>(below) * h, below,
-                         static_cast<double>(below + 1) * h, below + 1));
+                         span, duration, h, span, ratio, t0 + static_cast<double>(below) * h,
+                         below, t0 + static_cast<double>(below + 1) * h, below + 1));
   }
 
   // --- [grid] --------------------------------------------------------------------------------
@@ -574,13 +632,15 @@ class SpecReader {
       fail(draft.node, "grid.h must be the first grid axis (each step size is integrated as "
                        "its own slice of the grid)");
     if (!(h > 0.0)) fail_value(*draft.node, "grid.h", "step sizes > 0");
-    const double ratio = spec_.t_end / h;
+    const double duration = spec_.t_end - spec_.t_start, ratio = duration / h;
     const auto steps = std::llround(ratio);
     if (!(ratio >= 1.0 && ratio < 9.007199254740992e15) ||
-        std::abs(static_cast<double>(steps) * h - spec_.t_end) > kStepTolerance * spec_.t_end)
-      fail(draft.node, fmt::format("grid.h = {}: t_end = {} is not a whole number of steps of "
-                                   "it (t_end / h = {:.12g})",
-                                   h, spec_.t_end, ratio));
+        std::abs(static_cast<double>(steps) * h - duration) > kStepTolerance * duration)
+      fail(draft.node, fmt::format("grid.h = {}: {} = {} is not a whole number of steps of it "
+                                   "({} = {:.12g})",
+                                   h, duration_name(), duration,
+                                   spec_.t_start == 0.0 ? "t_end / h" : "(t_end - t_start) / h",
+                                   ratio));
   }
 
   // --- [measures] ----------------------------------------------------------------------------
@@ -683,14 +743,17 @@ class SpecReader {
   void read_sync(const toml::table& measures) {
     const toml::table* t = measure_settings(measures, "sync", {"window"});
     if (t == nullptr) return;
-    SyncMeasure sync{spec_.t_end / 2.0, spec_.t_end};
+    SyncMeasure sync{spec_.t_start + (spec_.t_end - spec_.t_start) / 2.0, spec_.t_end};
     if (const toml::node* window = t->get("window")) {
       const std::string key = "measures.sync.window";
       const std::vector<double> ends = numbers(*window, key);
       if (ends.size() != 2) fail_value(*window, key, "two numbers [from, to]");
-      if (!(0.0 <= ends[0] && ends[0] < ends[1] && ends[1] <= spec_.t_end))
+      if (!(spec_.t_start <= ends[0] && ends[0] < ends[1] && ends[1] <= spec_.t_end))
         fail_value(*window, key,
-                   fmt::format("[from, to] with 0 <= from < to <= t_end = {}", spec_.t_end));
+                   fmt::format("[from, to] with {} <= from < to <= t_end = {}",
+                               spec_.t_start == 0.0 ? std::string("0")
+                                                    : fmt::format("t_start = {}", spec_.t_start),
+                               spec_.t_end));
       if (ends[1] - ends[0] < spec_.h)
         fail_value(*window, key, fmt::format("a window at least one step h = {} long", spec_.h));
       sync = SyncMeasure{ends[0], ends[1]};

@@ -19,6 +19,10 @@
 //
 // Each sub-flow is exact, so each S₂ is a contact map and the composition conserves the
 // modified H of a nearby contact Hamiltonian: |ΔH/H| stays bounded (tests/test_methods.cpp).
+//
+// Time-dependent K (V(q, t), k(t)): t is a coordinate moved by the kinetic flow, so S₂ number s
+// takes its first V and Z flows at t_n + offset[s] and its last ones at t_n + offset[s + 1]
+// (Bravetti et al. 2020): each S₂ stays symmetric and the compositions keep orders 4 and 6.
 #pragma once
 
 #include <array>
@@ -26,6 +30,7 @@
 #include <cstddef>
 #include <stdexcept>
 
+#include "numerics/lane_math.hpp"
 #include "numerics/split_flows.hpp"
 
 namespace cs {
@@ -71,6 +76,8 @@ struct ContactSplitting {
     T decay[stages];  // e^{k·w_s·h/2}, the linear Z flow over half an S₂
     T k;              // Z = k·z or k·z²
     T dmu;            // −k·h: the exact change of ln λ over a whole step when Z is linear
+    T offset[stages + 1];  // time-dependent K: S₂ number s runs from t_n + offset[s] to
+                           // t_n + offset[s + 1] (offset[stages] = h exactly)
   };
 
   template <Scene S>
@@ -81,13 +88,17 @@ struct ContactSplitting {
       // The spec parser refuses such a pair (MethodInfo::needs_split_parts): never reached.
       throw std::logic_error("contact splitting needs a scene with split parts");
     } else {
-      coef.k = z_coefficient<S>(c);
+      coef.k = z_coefficient<S>(c, 0.0);  // used only where it does not depend on t
       coef.dmu = -coef.k * h;
+      double elapsed = 0.0;
       for (int s = 0; s < stages; ++s) {
         coef.tau[s] = Composition::weights[s] * h;
         coef.half[s] = 0.5 * coef.tau[s];
         coef.decay[s] = std::exp(coef.k * coef.half[s]);
+        coef.offset[s] = elapsed * h;
+        elapsed += Composition::weights[s];
       }
+      coef.offset[stages] = h;
     }
     return coef;
   }
@@ -102,7 +113,7 @@ struct ContactSplitting {
   template <Scene S, class T>
   static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
     if constexpr (SplittableScene<S>)
-      for_each_dof<S::dof>([&](auto i) { x.kq[i] = potential_force<S, i>(x.q, c); });
+      for_each_dof<S::dof>([&](auto i) { x.kq[i] = potential_force<S, i>(x.q, c, x.t); });
   }
 
   // Forced inline, with everything it calls: the kernel's lane loop vectorises only if the whole
@@ -112,38 +123,60 @@ struct ContactSplitting {
                                                         const ParamsOf<S, T>& c, const Coef<T>& k) {
     if constexpr (SplittableScene<S>) {
       constexpr bool with_z = carry.z || S::z_feeds_back;
+      const T t0 = x.t;
       T v{};  // V at the current q, needed only for z
-      if constexpr (with_z) v = potential<S>(x.q, c);
+      if constexpr (with_z) v = potential<S>(x.q, c, t0);
       // for_each_dof is the generic compile-time loop: unrolled, so s indexes the table as a
       // constant and the step stays one straight block.
       for_each_dof<stages>([&](auto s) {
-        z_flow<S, carry>(x, k, s);
+        const T ta = t0 + k.offset[s], tb = t0 + k.offset[s + 1];
+        z_flow<S, carry>(x, k, s, c, ta);
         potential_flow<with_z>(x, k.half[s], x.kq, v);
         kinetic_flow<with_z>(x, k.tau[s]);
-        refresh_force<S, with_z>(x, c, v);
+        refresh_force<S, with_z>(x, c, v, tb);
         potential_flow<with_z>(x, k.half[s], x.kq, v);
-        z_flow<S, carry>(x, k, s);
+        z_flow<S, carry>(x, k, s, c, tb);
       });
-      if constexpr (S::z_part == ZPart::linear && carry.mu) x.mu = x.mu + k.dmu;
+      if constexpr (S::z_part == ZPart::linear && carry.mu && !z_varies<S>())
+        x.mu = x.mu + k.dmu;
     }
   }
 
  private:
+  // Does k in Z = k·z (k·z²) change with time? Then it is taken at each flow's time.
+  template <SplittableScene S>
+  static constexpr bool z_varies() {
+    return time_dependent<S>() && !S::kz_constant;
+  }
+
+  // Z over half an S₂, at time t (which matters only where k depends on it).
   template <SplittableScene S, Carry carry, class T>
-  static void z_flow(LaneState<S::dof, T>& x, const Coef<T>& k, int s) {
-    if constexpr (S::z_part == ZPart::linear)
-      linear_z_flow<carry.z || S::z_feeds_back>(x, k.decay[s]);
-    else
-      quadratic_z_flow<carry.mu>(x, k.k, k.half[s]);
+  static void z_flow(LaneState<S::dof, T>& x, const Coef<T>& k, int s, const ParamsOf<S, T>& c,
+                     T t) {
+    constexpr bool with_z = carry.z || S::z_feeds_back;
+    if constexpr (!z_varies<S>()) {
+      if constexpr (S::z_part == ZPart::linear)
+        linear_z_flow<with_z>(x, k.decay[s]);
+      else
+        quadratic_z_flow<carry.mu>(x, k.k, k.half[s]);
+    } else {
+      const T kt = z_coefficient<S>(c, t);
+      if constexpr (S::z_part == ZPart::linear) {
+        linear_z_flow<with_z>(x, lane_math::exp(kt * k.half[s]));
+        if constexpr (carry.mu) x.mu = x.mu - kt * k.half[s];
+      } else {
+        quadratic_z_flow<carry.mu>(x, kt, k.half[s]);
+      }
+    }
   }
 
   template <SplittableScene S, bool with_z, class T>
-  static void refresh_force(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c, T& v) {
+  static void refresh_force(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c, T& v, T t) {
     for_each_dof<S::dof>([&](auto i) {
       if constexpr (with_z)
-        potential_and_force<S, i>(x.q, c, v, x.kq[i]);
+        potential_and_force<S, i>(x.q, c, t, v, x.kq[i]);
       else
-        x.kq[i] = potential_force<S, i>(x.q, c);
+        x.kq[i] = potential_force<S, i>(x.q, c, t);
     });
   }
 };

@@ -16,13 +16,15 @@ struct LaneState {
               // t = 7100 for γ = 0.1, and p's update needs only ratios of λ
   T kq[Dof];  // K_q at the current state, reused by the next step where K_q ignores p
   T broken;   // > 0 once a λ factor 1 ± (h/2)K_z reached ≤ 0 (state-dependent K_z only)
+  T t;        // the time of this state, t_start + n·h, set by the kernel before each step;
+              // read only by time-dependent scenes
 };
 
 // K_q at the lane's current state into its force cache: what the leap-frogs need before their
 // first step (afterwards each step leaves K_q^{n+1} there for the next).
 template <Scene S, class T>
 inline void cache_forces(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
-  for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c); });
+  for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c, x.t); });
 }
 
 // Which optional state a kernel instantiation integrates.

@@ -4,6 +4,7 @@
 // H = λK drifts linearly (−1.8e-5 over t = 10⁴ at h = 0.05 on scene A, γ = 0.01), and the
 // stability limit on scene A (ω = 1, γ = 0.1) is h < 2.9098 (tests/test_stability.cpp).
 //
+// A time-dependent K is evaluated at the classical stage times t_n, t_n + h/2 (twice), t_n + h.
 // z is integrated only when it feeds back or is asked for; ln λ never feeds back, and where K_z
 // is constant its exact increment −h·K_z (which RK4 reproduces) is precomputed per lane.
 #pragma once
@@ -24,7 +25,7 @@ struct Rk4 {
   static Coef<double> coefficients(double h, const ParamsOf<S, double>& c,
                                    const LaneState<S::dof>& x) {
     Coef<double> k{h, 0.5 * h, h / 6.0, 0.0};
-    if constexpr (S::kz_constant) k.dmu = -h * K_z<S>(x.q, x.p, x.z, c);
+    if constexpr (S::kz_constant) k.dmu = -h * K_z<S>(x.q, x.p, x.z, c, x.t);
     return k;
   }
 
@@ -46,10 +47,11 @@ struct Rk4 {
     constexpr bool with_mu = carry.mu && !S::kz_constant;
     using P = Point<D, T>;
     const P x0{x};
-    const P k1 = rate<S, with_z, with_mu>(x0, c);
-    const P k2 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.half_h, k1), c);
-    const P k3 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.half_h, k2), c);
-    const P k4 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.h, k3), c);
+    const T t_half = x.t + k.half_h, t1 = x.t + k.h;
+    const P k1 = rate<S, with_z, with_mu>(x0, c, x.t);
+    const P k2 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.half_h, k1), c, t_half);
+    const P k3 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.half_h, k2), c, t_half);
+    const P k4 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.h, k3), c, t1);
     // y + h/6·(r1 + 2r2 + 2r3 + r4)
     auto combine = [&](T y, T r1, T r2, T r3, T r4) {
       return y + k.sixth_h * ((r1 + r4) + 2.0 * (r2 + r3));
@@ -88,15 +90,15 @@ struct Rk4 {
 
   template <Scene S, bool with_z, bool with_mu, class T>
   [[gnu::always_inline]] static Point<S::dof, T> rate(const Point<S::dof, T>& y,
-                                                      const ParamsOf<S, T>& c) {
+                                                      const ParamsOf<S, T>& c, T t) {
     Point<S::dof, T> r;
-    const T kz = K_z<S>(y.q, y.p, y.z, c);
+    const T kz = K_z<S>(y.q, y.p, y.z, c, t);
     T z_rate{};
-    if constexpr (with_z) z_rate = K<S>(y.q, y.p, y.z, c);
+    if constexpr (with_z) z_rate = K<S>(y.q, y.p, y.z, c, t);
     for_each_dof<S::dof>([&](auto i) {
-      T kp = K_p<S, i>(y.q, y.p, y.z, c);
+      T kp = K_p<S, i>(y.q, y.p, y.z, c, t);
       r.q[i] = kp;
-      r.p[i] = y.p[i] * kz - K_q<S, i>(y.q, y.p, y.z, c);
+      r.p[i] = y.p[i] * kz - K_q<S, i>(y.q, y.p, y.z, c, t);
       if constexpr (with_z) z_rate = z_rate - y.p[i] * kp;
     });
     r.z = z_rate;

@@ -15,10 +15,15 @@
 // Z(0) = 0 and the kinetic part vanishes at p = 0; k = K_z(0, 0, 0) for a linear Z and
 // K_z(0, 0, 1)/2 for a quadratic one. tests/test_methods.cpp checks that each splittable scene
 // is the sum of these parts.
+//
+// A time-dependent K = Σ p²/2 + V(q, t) + c(t)·z (or c(t)·z²) is split the same way in the
+// extended phase space where t is a coordinate advanced by the kinetic flow (t += τ with q):
+// the V and Z flows see t frozen, so they stay exact and the compositions keep their orders.
 #pragma once
 
 #include <cmath>
 
+#include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/partials.hpp"
 
@@ -35,33 +40,33 @@ constexpr T value_of(Dual<T> x) {
 
 // V(q) and ∂V/∂q_i from one evaluation of K with q_i seeded (its value part is V itself).
 template <SplittableScene S, int i, class T>
-inline void potential_and_force(const T* q, const ParamsOf<S, T>& c, T& v, T& force) {
+inline void potential_and_force(const T* q, const ParamsOf<S, T>& c, T t, T& v, T& force) {
   T zero[S::dof] = {};
-  auto k = S::K(StateView<T, Seed::q, i>{q, zero, T{}}, c);
+  auto k = S::K(StateView<T, Seed::q, i>{q, zero, T{}, t}, c);
   v = value_of<T>(k);
   force = derivative<T>(k);
 }
 
 template <SplittableScene S, class T>
-inline T potential(const T* q, const ParamsOf<S, T>& c) {
+inline T potential(const T* q, const ParamsOf<S, T>& c, T t) {
   T zero[S::dof] = {};
-  return K<S>(q, zero, T{}, c);
+  return K<S>(q, zero, T{}, c, t);
 }
 
 template <SplittableScene S, int i, class T>
-inline T potential_force(const T* q, const ParamsOf<S, T>& c) {
+inline T potential_force(const T* q, const ParamsOf<S, T>& c, T t) {
   T zero[S::dof] = {};
-  return K_q<S, i>(q, zero, T{}, c);
+  return K_q<S, i>(q, zero, T{}, c, t);
 }
 
-// k in Z(z) = k·z or k·z².
+// k in Z(z) = k·z or k·z² (k may depend on t).
 template <SplittableScene S, class T>
-inline T z_coefficient(const ParamsOf<S, T>& c) {
+inline T z_coefficient(const ParamsOf<S, T>& c, T t) {
   T zero[S::dof] = {};
   if constexpr (S::z_part == ZPart::linear)
-    return K_z<S>(zero, zero, T{}, c);
+    return K_z<S>(zero, zero, T{}, c, t);
   else
-    return 0.5 * K_z<S>(zero, zero, T{} + 1.0, c);
+    return 0.5 * K_z<S>(zero, zero, T{} + 1.0, c, t);
 }
 
 // ---- the flows; `with_z` says whether z is integrated at all -----------------------------------
@@ -96,7 +101,7 @@ inline void quadratic_z_flow(LaneState<D, T>& x, T k, T t) {
   T r = 1.0 / s;
   x.z = x.z * r;
   for (int i = 0; i < D; ++i) x.p[i] = x.p[i] * (r * r);
-  if constexpr (with_mu) x.mu = x.mu + 2.0 * std::log(s);
+  if constexpr (with_mu) x.mu = x.mu + 2.0 * lane_math::log(s);
 }
 
 }  // namespace cs

@@ -34,11 +34,15 @@
 // - p½ where K_q or K_z depend on p (no scene here): fixed-point passes, one more than that.
 // Where K_q ignores p, K_qⁿ⁺¹ is the next step's K_qⁿ, kept in LaneState::kq: one force
 // evaluation per step.
+// A time-dependent K: ℋ(Q, Π, t) is evaluated at t_n in the first kick and the left end of the
+// trapezoid, at t_{n+1} = t_n + h in its right end and the last kick. The map stays symmetric
+// (swapping ends and h → −h gives its inverse), hence second order.
 #pragma once
 
 #include <cmath>
 #include <type_traits>
 
+#include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/partials.hpp"
 
@@ -61,7 +65,7 @@ struct SymmetricLeapfrog {
                                    const LaneState<S::dof>& x) {
     Coef<double> k{h, 0.5 * h, 1.0, 1.0, 1.0, 0.0};
     if constexpr (S::kz_constant) {
-      double kz = K_z<S>(x.q, x.p, x.z, c);
+      double kz = K_z<S>(x.q, x.p, x.z, c, x.t);
       k.a = 1.0 + k.half_h * kz;
       k.b = 1.0 - k.half_h * kz;
       k.inv_b = 1.0 / k.b;
@@ -87,9 +91,8 @@ struct SymmetricLeapfrog {
                                                         const ParamsOf<S, T>& c, const Coef<T>& k) {
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
-    static_assert(S::kz_constant || std::is_same_v<T, double>,
-                  "a state-dependent K_z needs a log per step: integrate such scenes lane by lane");
     const T hh = k.half_h;
+    const T t0 = x.t, t1 = x.t + k.h;
 
     // Half kick of the momenta (P, λ).
     T p_half[D], a;
@@ -97,28 +100,28 @@ struct SymmetricLeapfrog {
     constexpr int kick_passes = p_in_forces<S>() ? implicit_iterations<S>() + 1 : 1;
     for (int pass = 0; pass < kick_passes; ++pass) {
       if constexpr (p_in_forces<S>())
-        for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c); });
-      a = S::kz_constant ? k.a : 1.0 + hh * K_z<S>(x.q, p_half, x.z, c);
+        for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c, t0); });
+      a = S::kz_constant ? k.a : 1.0 + hh * K_z<S>(x.q, p_half, x.z, c, t0);
       for (int i = 0; i < D; ++i) p_half[i] = a * x.p[i] - hh * x.kq[i];
     }
 
     // Drift of the positions (q, z): trapezoid, solved from an Euler predictor.
     T kp0[D], q1[D];
-    for_each_dof<D>([&](auto i) { kp0[i] = K_p<S, i>(x.q, p_half, x.z, c); });
+    for_each_dof<D>([&](auto i) { kp0[i] = K_p<S, i>(x.q, p_half, x.z, c, t0); });
     for (int i = 0; i < D; ++i) q1[i] = x.q[i] + k.h * kp0[i];
     T z1 = x.z, r0{};
     if constexpr (with_z) {
-      r0 = z_rate<S>(x.q, p_half, x.z, c);
+      r0 = z_rate<S>(x.q, p_half, x.z, c, t0);
       z1 = x.z + k.h * r0;
     }
     for (int it = 0; it < implicit_iterations<S>(); ++it) {
       T q_next[D];
       for_each_dof<D>(
-          [&](auto i) { q_next[i] = x.q[i] + hh * (kp0[i] + K_p<S, i>(q1, p_half, z1, c)); });
+          [&](auto i) { q_next[i] = x.q[i] + hh * (kp0[i] + K_p<S, i>(q1, p_half, z1, c, t1)); });
       for (int i = 0; i < D; ++i) q1[i] = q_next[i];
       if constexpr (with_z) {
-        T g = z1 - x.z - hh * (r0 + z_rate<S>(q1, p_half, z1, c));
-        T slope = 1.0 - hh * K_z<S>(q1, p_half, z1, c);
+        T g = z1 - x.z - hh * (r0 + z_rate<S>(q1, p_half, z1, c, t1));
+        T slope = 1.0 - hh * K_z<S>(q1, p_half, z1, c, t1);
         z1 = z1 - g / slope;
       }
     }
@@ -131,21 +134,21 @@ struct SymmetricLeapfrog {
       inv_b = k.inv_b;
       if constexpr (carry.mu) x.mu = x.mu + k.dmu;
     } else {
-      T b = 1.0 - hh * K_z<S>(x.q, p_half, x.z, c);
+      T b = 1.0 - hh * K_z<S>(x.q, p_half, x.z, c, t1);
       x.broken += (a <= 0.0) + (b <= 0.0);
       inv_b = 1.0 / b;
-      if constexpr (carry.mu) x.mu = x.mu + std::log(b / a);
+      if constexpr (carry.mu) x.mu = x.mu + lane_math::log(b / a);
     }
-    for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c); });
+    for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c, t1); });
     for (int i = 0; i < D; ++i) x.p[i] = (p_half[i] - hh * x.kq[i]) * inv_b;
   }
 
  private:
   // dz/dt = K − Σ p_i K_{p_i}
   template <Scene S, class T>
-  static T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c) {
-    T r = K<S>(q, p, z, c);
-    for_each_dof<S::dof>([&](auto i) { r = r - p[i] * K_p<S, i>(q, p, z, c); });
+  static T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
+    T r = K<S>(q, p, z, c, t);
+    for_each_dof<S::dof>([&](auto i) { r = r - p[i] * K_p<S, i>(q, p, z, c, t); });
     return r;
   }
 };

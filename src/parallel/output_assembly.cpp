@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 
+#include "formula/custom_scene.hpp"
 #include "io/output_file.hpp"
 #include "parallel/agreement.hpp"
 #include "parallel/comm.hpp"
@@ -39,6 +40,7 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
   text["spec"] = plan.spec.spec_text;
   text["scene"] = plan.scene.name;
   text["hamiltonian"] = plan.scene.hamiltonian;
+  if (plan.spec.custom) text["K"] = plan.spec.custom->formula.text;
   text["method"] = plan.method.name;
   text["contactsweep_version"] = kVersion;
   text["Conventions"] = "CF-1.8";
@@ -47,6 +49,7 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
   const bool h_axis = !plan.spec.axes.empty() && plan.spec.axes.front().is_step_size;
   const double nan = std::numeric_limits<double>::quiet_NaN();  // h varies: see coordinate h
   number["h"] = h_axis ? nan : plan.spec.h;
+  number["t_start"] = plan.spec.t_start;
   number["t_end"] = plan.spec.t_end;
   number["steps"] = h_axis ? nan : static_cast<double>(plan.spec.steps);
   number["mpi_ranks"] = ranks;

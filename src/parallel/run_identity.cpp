@@ -12,13 +12,14 @@
 #include "version.hpp"
 
 namespace cs {
-namespace {
 
-// FNV-1a, 64 bits: identities are compared, not defended against an adversary.
-std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull) {
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h) {
   for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
   return h;
 }
+
+namespace {
+
 
 std::string hex(const unsigned char* bytes, std::size_t n) {
   std::string out;

@@ -5,8 +5,12 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace cs {
+
+// FNV-1a, 64 bits: identities are compared, not defended against an adversary.
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull);
 
 // The build that computes: the GNU build-id the linker writes into the executable (a hash of
 // its contents), read from memory at no cost; a hash of /proc/self/exe's bytes where there is

@@ -17,6 +17,9 @@
 #include <vector>
 
 #include "engine/run_plan.hpp"
+#include "formula/custom_scene.hpp"
+#include "kernel_build/kernel_cache.hpp"
+#include "kernel_build/kernel_source.hpp"
 #include "io/log.hpp"
 #include "io/memory_budget.hpp"
 #include "parallel/agreement.hpp"
@@ -192,15 +195,34 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
 }
 
+// A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
+// is written: a failed build leaves no journal and no file.
+KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+  const CustomScene& scene = *plan.spec.custom;
+  const std::string source =
+      kernel_source(scene.header, scene.struct_name,
+                    {plan.spec.method, plan.carry, plan.grid.uniform_parameters()});
+  BuiltKernel built;
+  KernelFn kernel = prepare_kernel(source, comm, &built);
+  if (built.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
+        built.library);
+  return kernel;
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm) {
   Comm c(comm);
-  const SceneInfo* scene = find_scene(spec.scene);
+  const SceneInfo* scene = &scene_of(spec);
   const MethodInfo* method = find_method(spec.method);
   RunPlan plan(spec, *scene, *method);  // the whole grid: datasets, layout
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
+  if (spec.custom) {
+    const auto kernel = custom_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->custom_kernel = kernel;
+  }
   SweepSummary summary;
   summary.points = plan.grid.size();
   auto start_time = std::chrono::steady_clock::now();

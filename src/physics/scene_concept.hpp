@@ -10,7 +10,11 @@
 //   template <class X, class T> static auto K(const X& x, const Params<T>&);
 //        the contact Hamiltonian, written once, reading the state through q<i>(x), p<i>(x), z(x)
 //   static bool diverged(const double* q, const double* p);   past the scene's bound?
-// and optionally static constexpr bool p_in_forces = true when K_q or K_z depend on p.
+// and optionally
+//   static constexpr bool p_in_forces = true      when K_q or K_z depend on p;
+//   static constexpr bool time_dependent = true   when K reads the time t(x).
+// A lane's time is t_start + n·h from its own step count n (never accumulated), so it is the same
+// bits wherever the lane runs; each method evaluates K at the times its derivation asks for.
 //
 // A scene whose K = Σ p_i²/2 + V(q) + Z(z) splits into exactly solvable flows declares the shape
 // of its z part, `static constexpr ZPart z_part` (Z = k·z or k·z²); splitting methods read V, its
@@ -37,6 +41,7 @@ struct StateView {
   const T* q;
   const T* p;
   T z;
+  T t;  // the time; never seeded (no method needs K_t)
 };
 
 template <int i, class T, Seed S, int I>
@@ -55,13 +60,18 @@ constexpr auto z(const StateView<T, S, I>& x) {
   else return x.z;
 }
 
+template <class T, Seed S, int I>
+constexpr T t(const StateView<T, S, I>& x) {
+  return x.t;
+}
+
 template <class S>
 concept Scene = requires(const double* x, typename S::template Params<double> prm) {
   { S::dof } -> std::convertible_to<int>;
   { S::z_feeds_back } -> std::convertible_to<bool>;
   { S::kz_constant } -> std::convertible_to<bool>;
   { S::params_from(x) } -> std::same_as<typename S::template Params<double>>;
-  { S::K(StateView<double>{x, x, 0.0}, prm) } -> std::convertible_to<double>;
+  { S::K(StateView<double>{x, x, 0.0, 0.0}, prm) } -> std::convertible_to<double>;
   { S::diverged(x, x) } -> std::same_as<bool>;
 };
 
@@ -75,6 +85,12 @@ concept SplittableScene = Scene<S> && requires {
 template <Scene S>
 constexpr bool p_in_forces() {
   if constexpr (requires { S::p_in_forces; }) return S::p_in_forces;
+  else return false;
+}
+
+template <Scene S>
+constexpr bool time_dependent() {
+  if constexpr (requires { S::time_dependent; }) return S::time_dependent;
   else return false;
 }
 
