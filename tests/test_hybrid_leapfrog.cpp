@@ -59,7 +59,7 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   EXPECT_NEAR(x.q[0], q1, 1e-15);
   EXPECT_NEAR(x.p[0], p1, 1e-15);
   EXPECT_NEAR(x.z, z1, 1e-15);
-  EXPECT_NEAR(x.mu, std::log(lambda1), 1e-15);
+  EXPECT_NEAR(log_lambda<Z2Damping>(x), std::log(lambda1), 1e-15);
   EXPECT_EQ(x.broken, 0.0);
 }
 
@@ -102,7 +102,7 @@ TEST(HybridLeapfrog, ForcesDependingOnPAreEvaluatedAtTheNewMomentum) {
   // Fixed point: the explicit value is off by h/2·|K_qp|·|p¹ − p½| ≈ 1.7e-4 and each of the four
   // further passes gains h/2·|K_qp − p½·K_zp| ≈ 3.8e-3, leaving ≈ 3.5e-14.
   EXPECT_NEAR(x.p[0], p1, 1e-13);
-  EXPECT_NEAR(x.mu, std::log(lambda1), 1e-13);
+  EXPECT_NEAR(log_lambda<PDependentForces>(x), std::log(lambda1), 1e-13);
   // The explicit choice, p½ in the end forces, is measurably different (and first order).
   const double p1_explicit = (1.0 + hh * Kz(p_half)) * p_half - hh * Kq(q1, p_half);
   EXPECT_GT(std::fabs(p1_explicit - p1), 1e-5);
@@ -118,7 +118,7 @@ TEST(HybridLeapfrog, ForcesDependingOnPKeepSecondOrder) {
     const auto k = M::template coefficients<PDependentForces>(h, kPForces, x);
     for (long n = 0, steps = std::lround(2.0 / h); n < steps; ++n)
       M::template step<PDependentForces, kAll>(x, kPForces, k);
-    return std::array<double, 4>{x.q[0], x.p[0], x.z, x.mu};
+    return std::array<double, 4>{x.q[0], x.p[0], x.z, log_lambda<PDependentForces>(x)};
   };
   const auto reference = run(Rk4{}, 2e-4);  // RK4's error ~ (2e-4)^4: negligible
   auto expect_order_2 = [&](auto method, const char* name) {
@@ -175,6 +175,53 @@ TEST(HybridLeapfrog, LogLambdaStaysFiniteAndExactToTenThousand) {
   ASSERT_TRUE(std::isfinite(x.mu));
   const double expected = gamma * 1e4 * (1.0 + (h * gamma) * (h * gamma) / 12.0);
   EXPECT_NEAR(x.mu, expected, 1e-6);
+}
+
+// The λ factor of a state-dependent K_z is multiplied up and folded into mu by 2^512 when it
+// leaves 2^±512: the fold is exact in the factor, moves 512·ln 2 into mu, and keeps ln λ to
+// within the one rounding of that addition.
+TEST(HybridLeapfrog, LambdaFactorFoldsWholePowersOfTwoIntoMu) {
+  constexpr double fold_log = 512 * 0x1.62e42fefa39efp-1;
+  struct Case {
+    double factor, expected_factor, mu_shift;
+  } cases[] = {
+      {0x1.8p511, 0x1.8p511, 0.0},           // inside: untouched
+      {0x1.8p-511, 0x1.8p-511, 0.0},
+      {0x1.3p512, 0x1.3p0, fold_log},        // 2^512 and above: divided by 2^512
+      {0x1.fp700, 0x1.fp188, fold_log},
+      {0x1.3p-512, 0x1.3p0, -fold_log},      // 2^-512 and below: multiplied by 2^512
+      {0x1p-1070, 0x1p-558, -fold_log},      // subnormal: still exact
+  };
+  for (const Case& c : cases) {
+    double mu = 3.25, factor = c.factor;
+    fold_lambda_factor(mu, factor);
+    EXPECT_EQ(factor, c.expected_factor) << c.factor;
+    EXPECT_EQ(mu, 3.25 + c.mu_shift) << c.factor;
+    const double log_lambda = 3.25 + std::log(c.factor);
+    EXPECT_NEAR(mu + std::log(factor), log_lambda, 2 * 0x1p-52 * std::fabs(log_lambda))
+        << c.factor;
+  }
+}
+
+// Over a long run with a state-dependent K_z the factor folds many times; ln λ still follows
+// the sum of the per-step logs it replaced (round-off: ~ steps·ulp).
+TEST(HybridLeapfrog, LogLambdaOfStateDependentKzSurvivesFolds) {
+  using S = PDependentForces;
+  const ParamsOf<S, double> c{0.0, 1.0, 0.5};  // λ'/λ = γ(1 + δp²/2) ≥ 1: ln λ > 1000 by t = 1000
+  auto x = lane<S>({1.0}, {0.0}, 1.0, 1.0, c);
+  HybridLeapfrog::start<S>(x, c);
+  const auto k = HybridLeapfrog::coefficients<S>(0.01, c, x);
+  double sum_of_logs = 0.0;
+  int folds = 0;
+  for (int n = 0; n < 100000; ++n) {
+    const double before = log_lambda<S>(x), mu_before = x.mu;
+    HybridLeapfrog::step<S, kAll>(x, c, k);
+    sum_of_logs += log_lambda<S>(x) - before;
+    folds += x.mu != mu_before;
+  }
+  EXPECT_EQ(folds, 2);  // at ln λ = 355 and 710
+  EXPECT_GT(log_lambda<S>(x), 1000.0);
+  EXPECT_NEAR(log_lambda<S>(x), sum_of_logs, 1e5 * 0x1p-52 * std::fabs(sum_of_logs));
 }
 
 }  // namespace

@@ -97,6 +97,7 @@ class BlockRunner {
     for (int d = 0; d < D; ++d) x.q[d] = state[d], x.p[d] = state[D + d];
     x.z = state[2 * D];
     x.mu = std::log(state[2 * D + 1]);
+    x.lambda_factor = 1.0;
     x.broken = 0.0;
   }
 
@@ -320,10 +321,11 @@ class BlockRunner {
   void state_values(const LaneState<D>& x, const Params& c, double* v, double& H) const {
     for (int d = 0; d < D; ++d) v[d] = x.q[d], v[D + d] = x.p[d];
     v[2 * D] = x.z;
-    v[2 * D + 1] = x.mu;
+    const double log_lambda_now = log_lambda<S>(x);
+    v[2 * D + 1] = log_lambda_now;
     // λK in the log domain: late in a damped run λ overflows while K underflows.
     double k = K<S>(x.q, x.p, x.z, c, x.t);
-    H = k == 0.0 ? 0.0 : std::copysign(std::exp(x.mu + std::log(std::fabs(k))), k);
+    H = k == 0.0 ? 0.0 : std::copysign(std::exp(log_lambda_now + std::log(std::fabs(k))), k);
   }
 
   void record_sample(std::int64_t point, std::int64_t sample, const LaneState<D>& x,

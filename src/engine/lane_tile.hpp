@@ -29,6 +29,7 @@ struct LaneTile {
   alignas(64) double p[D][W];
   alignas(64) double z[W];
   alignas(64) double mu[W];
+  alignas(64) double lambda_factor[W];
   alignas(64) double kq[D][W];
   alignas(64) double broken[W];
   alignas(64) double steps_done[W];  // each lane's step count n at the start of advance(),
@@ -54,6 +55,7 @@ struct LaneTile {
     for (int d = 0; d < D; ++d) x.q[d] = q[d][i], x.p[d] = p[d][i], x.kq[d] = kq[d][i];
     x.z = z[i];
     x.mu = mu[i];
+    x.lambda_factor = lambda_factor[i];
     x.broken = broken[i];
     return x;
   }
@@ -62,6 +64,7 @@ struct LaneTile {
     for (int d = 0; d < D; ++d) q[d][i] = x.q[d], p[d][i] = x.p[d], kq[d][i] = x.kq[d];
     z[i] = x.z;
     mu[i] = x.mu;
+    lambda_factor[i] = x.lambda_factor;
     broken[i] = x.broken;
   }
 
@@ -101,6 +104,8 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i], x.kq[d] = t.kq[d][i];
       if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
       if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
+      if constexpr (carry.mu && !S::kz_constant) x.lambda_factor = t.lambda_factor[i];
+      else x.lambda_factor = 1.0;
       if constexpr (!S::kz_constant) x.broken = t.broken[i]; else x.broken = 0.0;
       if constexpr (time_dependent<S>()) x.t = t_start + (t.steps_done[i] + s) * h;
       else x.t = 0.0;
@@ -112,6 +117,7 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       for (int d = 0; d < D; ++d) t.q[d][i] = x.q[d], t.p[d][i] = x.p[d], t.kq[d][i] = x.kq[d];
       if constexpr (carry.z || S::z_feeds_back) t.z[i] = x.z;
       if constexpr (carry.mu) t.mu[i] = x.mu;
+      if constexpr (carry.mu && !S::kz_constant) t.lambda_factor[i] = x.lambda_factor;
       if constexpr (!S::kz_constant) t.broken[i] = x.broken;
     }
     after_step(s);
