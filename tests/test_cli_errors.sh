@@ -119,6 +119,83 @@ else
   echo "note  output larger than the free disk: not run (mounting a small tmpfs needs root)"
 fi
 
+# ---- K written in the spec: each mistake is exit 2, named, nothing written (no kernel built) ---
+# k_spec NAME SCENE-LINES [INTEGRATOR-LINES] [EXTRA-SECTIONS] [MEASURE-LINES]: a small K spec.
+k_spec() {
+  printf '[scene]\n%s\n[integrator]\n%s\nh = 0.01\nt_end = 1.0\n%s\n[measures]\nfinal_state = true\n%s\n' \
+    "$2" "${3:-}" "${4:-}" "${5:-}" >"$work/k_$1.toml"
+  echo "$work/k_$1.toml"
+}
+k_expect() {  # k_expect NAME FRAGMENT SPEC-ARGS...: the spec from k_spec is refused with FRAGMENT
+  local name=$1 fragment=$2
+  shift 2
+  expect "K: $name" 2 "$fragment" "$d" -- "$bin" run "$(k_spec "${name// /_}" "$@")" -o k.h5
+}
+export CONTACTSWEEP_CACHE=$work/kernel_cache  # a refused spec must not even build a kernel
+k_expect "unknown symbol, named with the valid names" \
+  "symbol 'w' is neither a variable (q, p, z, t, pi) nor a parameter valued in [scene]: add w = <number>" \
+  $'K = "p^2/2 + w*q^2/2 - gamma*z"\ngamma = 0.1'
+k_expect "unknown symbol, 2 dof" "symbol 'k' is neither a variable (q1, q2, p1, p2, z, t, pi)" \
+  'K = "p1^2/2 + p2^2/2 + k*q1*q2"'
+k_expect "a [scene] key K does not use" \
+  "scene.gamma is not a symbol of K, so it would have no effect; K's parameters: none" \
+  $'K = "p^2/2 + q^2/2"\ngamma = 0.1'
+k_expect "syntax error, with its column" "syntax error at column 16: expected a number, a name or '('" \
+  'K = "p^2/2 + q^2/2 -* z"'
+k_expect "unknown function" "unknown function 'sinn' at column 9; the functions are sin cos tan" \
+  'K = "p^2/2 + sinn(q)"'
+k_expect "q mixed with q1" "mixes p (column 1) with q1 (column 17)" 'K = "p^2/2 + q^2/2 + q1*p1"'
+k_expect "both K and name" "[scene] has both name and K" $'K = "p^2/2 + q^2/2"\nname = "double_well"'
+k_expect "t_start after t_end" "integrator.t_end = 1 is not after integrator.t_start = 2" \
+  'K = "p^2/2 + q^2/2"' 't_start = 2.0'
+k_expect "t_start equal to t_end" "integrator.t_end = 1 is not after integrator.t_start = 1" \
+  'K = "p^2/2 + q^2/2"' 't_start = 1.0'
+k_expect "empty K" "scene.K: is empty" 'K = ""'
+k_expect "blank K" "scene.K: is empty" 'K = "   "'
+k_expect "K without q or p" "has no position or momentum" 'K = "-0.1*z"'
+k_expect "I" "I at column 9 is not allowed" 'K = "p^2/2 + I*q"'
+k_expect "lambda" "lambda at column 9: lambda is the contact factor" $'K = "p^2/2 + lambda*q"\nlambda = 1.0'
+k_expect "h" "h at column 9: h names the step-size axis" $'K = "p^2/2 + h*q"\nh = 1.0'
+k_expect "== in K" "syntax error at column 12: '==' is a comparison" 'K = "p^2/2 + (q == 1)"'
+k_expect "a^b^c" "syntax error at column 12: a^b^c is ambiguous" 'K = "p^2/2 + q^2^3"'
+k_expect "unbalanced parenthesis" "syntax error at column 9: '(' is never closed" 'K = "p^2/2 + (q^2/2"'
+k_expect "trailing operator" "syntax error at column 15: '+' at the end has no right operand" \
+  'K = "p^2/2 + q^2/2 +"'
+k_expect "K not a string" "scene.K: expected a string (in quotes), got a float 3.0" 'K = 3.0'
+k_expect "a splitting on a K that does not split" \
+  'method "contact_splitting4" needs K = sum of p_i^2/2 + V(q, t) + c(t)*z' \
+  'K = "p^4/4 + q^2/2 - z"' 'method = "contact_splitting4"'
+k_expect "basin on a custom K (issue 11)" "measures.basin: scene 'custom' does not support 'basin'" \
+  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = {}'
+k_expect "sync on a custom K (issue 11)" "measures.sync: scene 'custom' does not support 'sync'" \
+  'K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 - 0.1*z"' '' '' 'sync = {}'
+k_expect "an initial variable K does not have" "unknown key 'initial.q2'" \
+  'K = "p^2/2 + q^2/2"' '' $'[initial]\nq2 = 1.0'
+k_expect "an initial momentum beyond K's dof" "unknown key 'initial.p3'" \
+  'K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2"' '' $'[initial]\np3 = 1.0'
+k_expect "a parameter valued with a string" 'scene.w: expected a number, got a string "one"' \
+  $'K = "p^2/2 + w*q^2/2"\nw = "one"'
+k_expect "t_start infinite" "integrator.t_start = inf: expected a finite number" \
+  'K = "p^2/2 + q^2/2"' 't_start = inf'
+k_expect "not whole steps from t_start" "integrator.t_end - t_start = 0.995 is not a whole number of steps" \
+  'K = "p^2/2 + q^2/2"' 't_start = 0.005'
+k_expect "empty label" "scene.label is empty" $'K = "p^2/2 + q^2/2"\nlabel = ""'
+k_expect "a grid axis over a symbol not in K" "unknown key 'grid.gamma'; valid keys in [grid]: w, h" \
+  $'K = "p^2/2 + w*q^2/2"\nw = 1.0' '' $'[grid]\ngamma = { values = [0.1, 0.2] }'
+expect "K: --set of a symbol not in K" 2 "--set scene.gamma=0.2: scene.gamma is not a symbol of K" \
+  "$d" -- "$bin" run "$(k_spec set_unknown $'K = "p^2/2 + w*q^2/2"\nw = 1.0')" -o k.h5 \
+  --set scene.gamma=0.2
+expect "K: unknown symbol under mpirun" 2 "symbol 'w' is neither a variable" "$d" -- \
+  $mpiexec -np 2 "$bin" run "$work/k_unknown_symbol,_named_with_the_valid_names.toml" -o k.h5
+if [[ -z $(ls "$CONTACTSWEEP_CACHE" 2>/dev/null) ]]; then
+  echo "ok    K: no refused spec built a kernel"
+  passed=$((passed + 1))
+else
+  echo "FAIL  K: a refused spec built a kernel: $(ls "$CONTACTSWEEP_CACHE")"
+  failed=$((failed + 1))
+fi
+unset CONTACTSWEEP_CACHE
+
 # The harness itself: a good run exits 0 and its file appears (so 'nothing written' above means
 # something).
 rc=0

@@ -416,11 +416,13 @@ class SpecReader {
     spec_.scene = name;
     scene_ = &spec_.custom->info;
     const Names parameters = parameter_names(*scene_);
+    const Names state = variable_names(*scene_);  // q.., p.., z, lambda: K may use all but λ
+    const Names positions_momenta(state.begin(), state.begin() + 2 * scene_->dof);
     for (const std::string& p : parameters)
       if (t.get(p) == nullptr)
         fail(&k, fmt::format("scene.K: symbol '{}' is neither a variable ({}, z, t, pi) nor a "
                              "parameter valued in [scene]: add {} = <number> under [scene]",
-                             p, fmt::join(variable_names(*scene_), ", "), p));
+                             p, fmt::join(positions_momenta, ", "), p));
     for (const auto& [key, value] : t) {
       const std::string_view k_name = key.str();
       if (k_name == "K" || k_name == "label" || contains(parameters, std::string(k_name))) continue;
@@ -483,6 +485,10 @@ class SpecReader {
       fail(node, fmt::format("unknown method {}{}; valid methods: {}", toml_string(spec_.method),
                              did_you_mean(spec_.method, methods, ""), fmt::join(methods, ", ")));
     const Names missing = missing_split_parts(*method, scene_->split_parts);
+    if (!missing.empty() && spec_.custom)
+      fail(node, fmt::format("method {} needs K = sum of p_i^2/2 + V(q, t) + c(t)*z (or "
+                             "c(t)*z^2), and scene.K does not split so; methods that work here: {}",
+                             toml_string(spec_.method), fmt::join(usable_methods(), ", ")));
     if (!missing.empty())
       fail(node,
            fmt::format("method {} needs the exact sub-flow(s) {} that scene '{}' does not "
