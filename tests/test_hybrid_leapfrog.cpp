@@ -2,6 +2,9 @@
 // H = λK drift law of shared/PHYSICS.md.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
+
 #include <array>
 #include <cmath>
 #include <vector>
@@ -177,51 +180,58 @@ TEST(HybridLeapfrog, LogLambdaStaysFiniteAndExactToTenThousand) {
   EXPECT_NEAR(x.mu, expected, 1e-6);
 }
 
-// The λ factor of a state-dependent K_z is multiplied up and folded into mu by 2^512 when it
-// leaves 2^±512: the fold is exact in the factor, moves 512·ln 2 into mu, and keeps ln λ to
-// within the one rounding of that addition.
-TEST(HybridLeapfrog, LambdaFactorFoldsWholePowersOfTwoIntoMu) {
-  constexpr double fold_log = 512 * 0x1.62e42fefa39efp-1;
+// The λ factors a and b of a state-dependent K_z are multiplied up, each product folded by
+// 2^512 when it leaves [2^-511, 2^512): exact, and the power moved out is returned.
+TEST(HybridLeapfrog, LambdaFactorFoldsWholePowersOfTwo) {
   struct Case {
-    double factor, expected_factor, mu_shift;
+    double factor, expected_factor, folds;
   } cases[] = {
-      {0x1.8p511, 0x1.8p511, 0.0},           // inside: untouched
-      {0x1.8p-511, 0x1.8p-511, 0.0},
-      {0x1.3p512, 0x1.3p0, fold_log},        // 2^512 and above: divided by 2^512
-      {0x1.fp700, 0x1.fp188, fold_log},
-      {0x1.3p-512, 0x1.3p0, -fold_log},      // 2^-512 and below: multiplied by 2^512
-      {0x1p-1070, 0x1p-558, -fold_log},      // subnormal: still exact
+      {0x1.8p511, 0x1.8p511, 0},      // inside: untouched
+      {0x1.8p-511, 0x1.8p-511, 0},
+      {0x1.3p512, 0x1.3p0, 1},        // 2^512 and above: divided by 2^512
+      {0x1.fp700, 0x1.fp188, 1},
+      {0x1.3p-512, 0x1.3p0, -1},      // below 2^-511: multiplied by 2^512
+      {0x1p-1070, 0x1p-558, -1},      // subnormal: still exact
   };
   for (const Case& c : cases) {
-    double mu = 3.25, factor = c.factor;
-    fold_lambda_factor(mu, factor);
+    double factor = c.factor;
+    EXPECT_EQ(fold_power_of_two(factor), c.folds) << c.factor;
     EXPECT_EQ(factor, c.expected_factor) << c.factor;
-    EXPECT_EQ(mu, 3.25 + c.mu_shift) << c.factor;
-    const double log_lambda = 3.25 + std::log(c.factor);
-    EXPECT_NEAR(mu + std::log(factor), log_lambda, 2 * 0x1p-52 * std::fabs(log_lambda))
-        << c.factor;
   }
 }
 
-// Over a long run with a state-dependent K_z the factor folds many times; ln λ still follows
-// the sum of the per-step logs it replaced (round-off: ~ steps·ulp).
-TEST(HybridLeapfrog, LogLambdaOfStateDependentKzSurvivesFolds) {
+// ln λ is read from the canonical (folds, factor): the same bits whether the kernel folded
+// after every step, every 64 or every 1000 steps, and the sum of the per-step logs it
+// replaced (round-off ~ steps·ulp) over a run where the factor folds twice.
+TEST(HybridLeapfrog, LogLambdaDoesNotDependOnWhenTheFactorFolds) {
   using S = PDependentForces;
   const ParamsOf<S, double> c{0.0, 1.0, 0.5};  // λ'/λ = γ(1 + δp²/2) ≥ 1: ln λ > 1000 by t = 1000
-  auto x = lane<S>({1.0}, {0.0}, 1.0, 1.0, c);
-  HybridLeapfrog::start<S>(x, c);
-  const auto k = HybridLeapfrog::coefficients<S>(0.01, c, x);
+  auto run = [&](int fold_every, double* sum_of_logs) {
+    auto x = lane<S>({1.0}, {0.0}, 1.0, 1.0, c);
+    HybridLeapfrog::start<S>(x, c);
+    const auto k = HybridLeapfrog::coefficients<S>(0.01, c, x);
+    for (int n = 0; n < 100000; ++n) {
+      const double before = log_lambda<S>(x);
+      HybridLeapfrog::step<S, kAll>(x, c, k);
+      if ((n + 1) % fold_every == 0) {  // as the kernel does (engine/lane_tile.hpp)
+        x.lambda_folds = x.lambda_folds + fold_power_of_two(x.lambda_numerator);
+        x.lambda_folds = x.lambda_folds - fold_power_of_two(x.lambda_denominator);
+      }
+      if (sum_of_logs != nullptr) *sum_of_logs += log_lambda<S>(x) - before;
+    }
+    return x;
+  };
   double sum_of_logs = 0.0;
-  int folds = 0;
-  for (int n = 0; n < 100000; ++n) {
-    const double before = log_lambda<S>(x), mu_before = x.mu;
-    HybridLeapfrog::step<S, kAll>(x, c, k);
-    sum_of_logs += log_lambda<S>(x) - before;
-    folds += x.mu != mu_before;
-  }
-  EXPECT_EQ(folds, 2);  // at ln λ = 355 and 710
-  EXPECT_GT(log_lambda<S>(x), 1000.0);
-  EXPECT_NEAR(log_lambda<S>(x), sum_of_logs, 1e5 * 0x1p-52 * std::fabs(sum_of_logs));
+  const auto every_step = run(1, &sum_of_logs);
+  const auto every_64 = run(64, nullptr), every_1000 = run(1000, nullptr);
+  auto same_bits = [](double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  };
+  EXPECT_GE(every_step.lambda_folds, 2);  // ln λ passed 355 and 710 (each product folds too)
+  EXPECT_GT(log_lambda<S>(every_step), 1000.0);
+  EXPECT_TRUE(same_bits(log_lambda<S>(every_step), log_lambda<S>(every_64)));
+  EXPECT_NEAR(log_lambda<S>(every_step), sum_of_logs, 1e5 * 0x1p-52 * std::fabs(sum_of_logs));
+  EXPECT_TRUE(same_bits(log_lambda<S>(every_step), log_lambda<S>(every_1000)));
 }
 
 }  // namespace

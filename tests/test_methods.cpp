@@ -152,13 +152,19 @@ std::vector<LaneState<S::dof>> states_at_whole_times(double h) {
   return out;
 }
 
+// ln λ of a lane from a short run (no fold of its λ products yet), whatever its scene.
+template <int D>
+double unfolded_log_lambda(const LaneState<D>& x) {
+  return x.mu + (std::log(x.lambda_numerator) - std::log(x.lambda_denominator));
+}
+
 template <int D>
 double max_distance(const std::vector<LaneState<D>>& a, const std::vector<LaneState<D>>& b) {
   double e = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     for (int d = 0; d < D; ++d)
       e = std::max({e, std::fabs(a[i].q[d] - b[i].q[d]), std::fabs(a[i].p[d] - b[i].p[d])});
-    e = std::max({e, std::fabs(a[i].z - b[i].z), std::fabs(a[i].mu + std::log(a[i].lambda_factor) - b[i].mu - std::log(b[i].lambda_factor))});
+    e = std::max({e, std::fabs(a[i].z - b[i].z), std::fabs(unfolded_log_lambda(a[i]) - unfolded_log_lambda(b[i]))});
   }
   return e;
 }

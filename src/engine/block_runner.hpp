@@ -97,7 +97,8 @@ class BlockRunner {
     for (int d = 0; d < D; ++d) x.q[d] = state[d], x.p[d] = state[D + d];
     x.z = state[2 * D];
     x.mu = std::log(state[2 * D + 1]);
-    x.lambda_factor = 1.0;
+    x.lambda_numerator = x.lambda_denominator = 1.0;
+    x.lambda_folds = 0.0;
     x.broken = 0.0;
   }
 

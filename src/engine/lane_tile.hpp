@@ -29,7 +29,9 @@ struct LaneTile {
   alignas(64) double p[D][W];
   alignas(64) double z[W];
   alignas(64) double mu[W];
-  alignas(64) double lambda_factor[W];
+  alignas(64) double lambda_numerator[W];  // see LaneState
+  alignas(64) double lambda_denominator[W];
+  alignas(64) double lambda_folds[W];
   alignas(64) double kq[D][W];
   alignas(64) double broken[W];
   alignas(64) double steps_done[W];  // each lane's step count n at the start of advance(),
@@ -55,7 +57,9 @@ struct LaneTile {
     for (int d = 0; d < D; ++d) x.q[d] = q[d][i], x.p[d] = p[d][i], x.kq[d] = kq[d][i];
     x.z = z[i];
     x.mu = mu[i];
-    x.lambda_factor = lambda_factor[i];
+    x.lambda_numerator = lambda_numerator[i];
+    x.lambda_denominator = lambda_denominator[i];
+    x.lambda_folds = lambda_folds[i];
     x.broken = broken[i];
     return x;
   }
@@ -64,7 +68,9 @@ struct LaneTile {
     for (int d = 0; d < D; ++d) q[d][i] = x.q[d], p[d][i] = x.p[d], kq[d][i] = x.kq[d];
     z[i] = x.z;
     mu[i] = x.mu;
-    lambda_factor[i] = x.lambda_factor;
+    lambda_numerator[i] = x.lambda_numerator;
+    lambda_denominator[i] = x.lambda_denominator;
+    lambda_folds[i] = x.lambda_folds;
     broken[i] = x.broken;
   }
 
@@ -104,8 +110,10 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i], x.kq[d] = t.kq[d][i];
       if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
       if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
-      if constexpr (carry.mu && !S::kz_constant) x.lambda_factor = t.lambda_factor[i];
-      else x.lambda_factor = 1.0;
+      if constexpr (carry.mu && !S::kz_constant) {
+        x.lambda_numerator = t.lambda_numerator[i];
+        x.lambda_denominator = t.lambda_denominator[i];
+      }
       if constexpr (!S::kz_constant) x.broken = t.broken[i]; else x.broken = 0.0;
       if constexpr (time_dependent<S>()) x.t = t_start + (t.steps_done[i] + s) * h;
       else x.t = 0.0;
@@ -117,8 +125,22 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       for (int d = 0; d < D; ++d) t.q[d][i] = x.q[d], t.p[d][i] = x.p[d], t.kq[d][i] = x.kq[d];
       if constexpr (carry.z || S::z_feeds_back) t.z[i] = x.z;
       if constexpr (carry.mu) t.mu[i] = x.mu;
-      if constexpr (carry.mu && !S::kz_constant) t.lambda_factor[i] = x.lambda_factor;
+      if constexpr (carry.mu && !S::kz_constant) {
+        t.lambda_numerator[i] = x.lambda_numerator;
+        t.lambda_denominator[i] = x.lambda_denominator;
+      }
       if constexpr (!S::kz_constant) t.broken[i] = x.broken;
+    }
+    // The λ factors multiplied up by the hybrid leap-frog stay far from overflow if folded at
+    // least every 64 steps; when does not matter for the bits (log_lambda, lane_state.hpp).
+    if constexpr (carry.mu && !S::kz_constant) {
+      if ((s & 63) == 63 || s + 1 == steps) {
+#pragma GCC ivdep
+        for (int i = 0; i < W; ++i) {
+          t.lambda_folds[i] = t.lambda_folds[i] + fold_power_of_two(t.lambda_numerator[i]);
+          t.lambda_folds[i] = t.lambda_folds[i] - fold_power_of_two(t.lambda_denominator[i]);
+        }
+      }
     }
     after_step(s);
   }

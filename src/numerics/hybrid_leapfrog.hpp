@@ -123,10 +123,10 @@ struct HybridLeapfrog {
     } else {
       // One test for both factors (a NaN factor is no breakdown: the lane diverges instead).
       x.broken += ((a < b ? a : b) <= 0.0);
-      // λ^{n+1} = λ^n·a/b: multiplied up, not two logs a step (scene B's cost was the logs).
+      // λ^{n+1} = λ^n·a/b: a and b multiplied up, no log or division a step (scene B's cost).
       if constexpr (carry.mu) {
-        x.lambda_factor = x.lambda_factor * (a / b);
-        fold_lambda_factor(x.mu, x.lambda_factor);
+        x.lambda_numerator = x.lambda_numerator * a;  // folded by the kernel (lane_state.hpp)
+        x.lambda_denominator = x.lambda_denominator * b;
       }
     }
   }
