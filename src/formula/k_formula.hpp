@@ -1,6 +1,7 @@
-// A contact Hamiltonian K(q, p, z, t) written by the user in the spec (scene.K): parsed and
-// analysed with GiNaC, and turned into a scene header (physics/scene_concept.hpp) that the
-// run-time compiler builds like a hand-written scene.
+// A contact Hamiltonian K(q, p, z, t) written by the user in the spec (scene.K): parsed
+// (k_parser.cpp) and analysed with GiNaC (k_traits.cpp), and turned into a scene header
+// (scene_codegen.cpp; physics/scene_concept.hpp) that the run-time compiler builds like a
+// hand-written scene.
 //
 // Grammar (the usual one, as in Python or a calculator):
 //   sum     = product { ("+" | "-") product }

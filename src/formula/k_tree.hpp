@@ -1,0 +1,80 @@
+// Internals of scene.K shared by its parser, analysis and code generator (src/formula/): the
+// formula as written (a tree, each node with its GiNaC expression), exact numbers, and the error
+// every refusal throws. Not part of the interface: k_formula.hpp is.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "formula/k_formula.hpp"
+
+namespace cs::k_formula {
+
+using GiNaC::ex;
+using GiNaC::ex_to;
+using GiNaC::is_a;
+using GiNaC::numeric;
+
+// Throws the InputError of a bad K: "scene.K: " + message.
+[[noreturn]] void fail(const std::string& message);
+
+// GiNaC's precision is a global; numeric checks run at 40 digits and restore it.
+class DigitsGuard {
+ public:
+  DigitsGuard() : saved_(GiNaC::Digits) { GiNaC::Digits = 40; }
+  ~DigitsGuard() { GiNaC::Digits = saved_; }
+  DigitsGuard(const DigitsGuard&) = delete;
+  DigitsGuard& operator=(const DigitsGuard&) = delete;
+
+ private:
+  long saved_;
+};
+
+numeric exact_of(double x);                // the double's exact value
+double nearest_double(const numeric& r);   // r rational: correctly rounded
+double double_of(const numeric& n);        // nearest for rationals, else GiNaC's rounding
+std::string double_literal(double x);      // a C++ literal that reads back as x, bit for bit
+bool is_name_start(char c);
+bool is_name_char(char c);
+std::string join(const std::vector<std::string>& parts, const std::string& sep);
+
+// The formula as written: code is generated from this tree, so it keeps the user's structure and
+// order of operations whatever GiNaC's canonical form (whose term order follows symbol serial
+// numbers, i.e. what the process parsed before). `value` is the subtree as a GiNaC expression.
+struct Node;
+using NodePtr = std::shared_ptr<const Node>;
+struct Node {
+  enum Kind { number, name, neg, add, sub, mul, div, pow, call } kind = number;
+  ex value;
+  NodePtr a, b;      // operands: a alone for neg and call
+  std::string text;  // the name, or the function
+};
+
+struct Parsed {
+  ex K;
+  NodePtr tree;
+  std::vector<GiNaC::realsymbol> q, p;  // q[i − 1] is q_i (q alone: q[0])
+  GiNaC::realsymbol z{"z"}, t{"t"};
+  std::map<std::string, GiNaC::realsymbol> parameters;  // sorted by name
+  int dof = 0;
+  bool indexed = false;
+};
+
+// The tree and GiNaC expression of K; throws InputError naming the problem (and its column).
+Parsed parse(const std::string& text);
+
+// The traits the kernel needs, from GiNaC's symbolic partials of parsed.K (k_traits.cpp).
+KTraits analyse(const Parsed& parsed);
+
+// The names of the generated Params' fields for `parameters` (scene_codegen.cpp).
+std::vector<std::string> fields_of(const std::vector<std::string>& parameters);
+
+// "return <K as C++>;" for the body of the generated K (scene_codegen.cpp); refuses constants
+// that are not finite doubles.
+std::string return_statement(const Parsed& parsed, const std::vector<std::string>& fields);
+
+}  // namespace cs::k_formula
