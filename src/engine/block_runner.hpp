@@ -10,14 +10,19 @@
 // runs them in one go once it is full (or at the end of the block).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <deque>
 #include <limits>
 
+#include "engine/attractor_search.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/run_plan.hpp"
 #include "engine/sync_tracker.hpp"
 #include "physics/double_well.hpp"
+#include "physics/energy_wells.hpp"
 #include "physics/partials.hpp"
 #include "physics/scene_bounds.hpp"
 
@@ -28,6 +33,7 @@ class BlockRunner {
   static constexpr int W = 64;
   static constexpr int D = S::dof;
   static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
+  static constexpr int N = 2 * D;             // phase space: q.., p..
   static constexpr int kParamSlots = sizeof(ParamsOf<S, double>) / sizeof(double);
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
@@ -38,6 +44,10 @@ class BlockRunner {
     std::int64_t point = -1;  // −1: empty slot
     std::int64_t n = 0;       // steps done
     bool trapped = false;     // basin decided by the energy trap
+    bool settled = false;     // attractor found (BasinMode::found)
+    int period = 0;           // of the cycle it settled on
+    std::array<double, N> attractor{};
+    CycleTracker<N> cycle;    // stroboscopic samples (a forced scene's period)
     double settle_time = 0.0;
     std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
     SyncTracker sync;
@@ -58,6 +68,15 @@ class BlockRunner {
     sync_n0_ = plan.sync_first_step;
     sync_n1_ = plan.sync_last_step;
     if (m.basin) basin_early_stop_ = m.basin->early_stop;
+    const bool found = plan.basin_mode == BasinMode::found;
+    strobe_ = found && m.basin->period.has_value();
+    look_search_ = found && !strobe_;
+    energy_search_ = found && has_energy_trap<S>();
+    if (energy_search_) box_ = basin_box();
+    for (int k = 0; k < N; ++k) {
+      angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
+      angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
+    }
     idle_ = make_idle_lane();
   }
 
@@ -112,6 +131,10 @@ class BlockRunner {
       countdown_[i] = std::numeric_limits<int>::max();
       trap_energy_[i] = -std::numeric_limits<double>::infinity();
       a2_[i] = 0.0;
+      near_[i] = 0.0;
+      well_energy_[i] = -std::numeric_limits<double>::infinity();
+      dwell_needed_[i] = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < N; ++k) anchor_[k][i] = 0.0;
     }
   }
 
@@ -121,7 +144,7 @@ class BlockRunner {
   // E ~ a⁴ and ω ~ a: margin = C·h²·a⁶ (C in the plan, measured in the basin tests).
   double trap_energy(const Params& c) const {
     if constexpr (std::is_same_v<S, DoubleWell>) {
-      if (plan_.map.basin >= 0 && c.gamma >= 0.0) {
+      if (plan_.basin_mode == BasinMode::trap && c.gamma >= 0.0) {
         double a2 = c.a * c.a, h = plan_.spec.h;
         return 0.5 * a2 * a2 - plan_.basin_margin_coefficient * (h * h) * (a2 * a2 * a2);
       }
@@ -162,7 +185,7 @@ class BlockRunner {
       return false;
     }
     observe(b, x, c);
-    if (b.trapped && basin_early_stop_) {  // decided before the first step
+    if (decided(b) && basin_early_stop_) {  // decided before the first step
       finish(b, x, c, LaneStatus::ok);
       return false;
     }
@@ -172,6 +195,11 @@ class BlockRunner {
     countdown_[i] = chunks_until_due(0);
     arm_trap(i, c);
     if (b.trapped) trap_energy_[i] = -std::numeric_limits<double>::infinity();
+    if (look_search_ && !b.settled) {
+      for (int d = 0; d < D; ++d) anchor_[d][i] = x.q[d], anchor_[D + d][i] = x.p[d];
+      dwell_needed_[i] = plan_.attractors.dwell_samples;
+    }
+    if (energy_search_ && !b.settled) well_energy_[i] = wells_for(c).trap_energy;
     ++active_;
     if (steps_ < plan_.chunk) move_to_finisher(i);  // a run shorter than one chunk
     return true;
@@ -203,6 +231,104 @@ class BlockRunner {
       t.steps_done[i] += plan_.chunk;
       attention_[i] = (!healthy) | trapped | (countdown_[i] <= 0);
     }
+    if (look_search_) search_on_looks();
+    if (energy_search_) search_energy_trap();
+  }
+
+  // E = K(q, p, 0) below the lane's trap level, inside the box (energy_wells.hpp).
+  void search_energy_trap() {
+    if constexpr (has_energy_trap<S>()) {
+      Tile& t = main_;
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        double q[D], p[D];
+        int inside = 1;
+        for (int d = 0; d < D; ++d) {
+          q[d] = t.q[d][i], p[d] = t.p[d][i];
+          inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
+        }
+        double energy;
+        if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
+        else energy = K<S>(q, p, 0.0, t.params(i), 0.0);
+        attention_[i] |= inside & (energy < well_energy_[i]);
+      }
+    }
+  }
+
+  // The box the map's positions lie in (BasinBox): each q's range over the grid, widened.
+  BasinBox<D> basin_box() const {
+    BasinBox<D> box;
+    for (int d = 0; d < D; ++d) {
+      const std::string& name = plan_.scene.variables[static_cast<std::size_t>(d)].name;
+      double lo = plan_.spec.initial.at(name), hi = lo;
+      for (const auto& axis : plan_.spec.axes)
+        if (!axis.is_parameter && !axis.is_step_size && axis.target == name)
+          for (double v : axis.values) lo = std::min(lo, v), hi = std::max(hi, v);
+      const double widen = 0.5 * std::max(hi - lo, 1.0);
+      box.lo[d] = lo - widen, box.hi[d] = hi + widen;
+    }
+    return box;
+  }
+
+  // The wells of one parameter set, found once per thread and kept (the same bits wherever).
+  const Wells<D>& wells_for(const Params& c) const {
+    struct Known {
+      Params params;
+      BasinBox<D> box;
+      double h;
+      Wells<D> wells;
+    };
+    static thread_local std::deque<Known> known;
+    for (const Known& k : known)
+      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == box_.lo && k.box.hi == box_.hi &&
+          k.h == h_)
+        return k.wells;
+    if (known.size() > 4096) known.pop_front();
+    known.push_back({c, box_, h_, WellFinder<S>(c, box_, h_).find()});
+    return known.back().wells;
+  }
+
+  // Settles a lane whose energy has fallen below its trap level, at its well's minimum.
+  void check_energy_trap(Book& b, const LaneState<D>& x, const Params& c) {
+    if constexpr (has_energy_trap<S>()) {
+      for (int d = 0; d < D; ++d)
+        if (!(x.q[d] >= box_.lo[d] && x.q[d] <= box_.hi[d])) return;
+      const Wells<D>& wells = wells_for(c);
+      if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
+      const auto bottom = WellFinder<S>(c, box_, h_).bottom(x.q, wells);
+      b.settled = true;
+      b.period = 1;
+      for (int d = 0; d < D; ++d) b.attractor[d] = bottom[d], b.attractor[D + d] = 0.0;
+      b.settle_time = time_at(b.n);
+    }
+  }
+
+  // Attractors of an autonomous scene, looked for at every look: a lane's run near its anchor
+  // (the point where the run began) grows by one look while it stays within the tolerance, and
+  // starts again from where the lane is when it does not. Branch-free, like screen().
+  void search_on_looks() {
+    Tile& t = main_;
+    const double tolerance = plan_.attractors.tolerance;
+#pragma GCC ivdep
+    for (int i = 0; i < W; ++i) {
+      int near = 1;
+      for (int d = 0; d < D; ++d) {
+        near &= std::fabs(folded(t.q[d][i] - anchor_[d][i], d)) <= tolerance;
+        near &= std::fabs(folded(t.p[d][i] - anchor_[D + d][i], D + d)) <= tolerance;
+      }
+      near_[i] = near ? near_[i] + 1.0 : 0.0;
+      for (int d = 0; d < D; ++d) {
+        anchor_[d][i] = near ? anchor_[d][i] : t.q[d][i];
+        anchor_[D + d][i] = near ? anchor_[D + d][i] : t.p[d][i];
+      }
+      attention_[i] |= near_[i] >= dwell_needed_[i];
+    }
+  }
+
+  // A difference of variable k folded into [−period/2, period/2] if k is an angle (as
+  // phase_difference, without a branch: the frequency of a non-angle is 0).
+  double folded(double difference, int k) const {
+    return difference - angle_period_[k] * std::nearbyint(difference * angle_frequency_[k]);
   }
 
   // Chunks until a lane at step n is due for a sample or for the end of its run.
@@ -214,6 +340,10 @@ class BlockRunner {
     }
     if (plan_.map.sync_r >= 0 && n < sync_n1_)
       due = std::min(due, n < sync_n0_ ? sync_n0_ : n + plan_.chunk);
+    if (strobe_) {
+      auto every = plan_.attractors.sample_steps;
+      due = std::min(due, (n / every + 1) * every);
+    }
     return static_cast<int>((due - n) / plan_.chunk);
   }
 
@@ -232,8 +362,16 @@ class BlockRunner {
       const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
+      if (!failed && look_search_ && !b.settled && near_[i] >= dwell_needed_[i]) {
+        settle(b, x, 1, b.n - static_cast<std::int64_t>(near_[i]) * plan_.chunk);
+        dwell_needed_[i] = std::numeric_limits<double>::infinity();
+      }
       if (!failed) observe(b, x, c);
-      bool done = failed || b.n == steps_ || (b.trapped && basin_early_stop_);
+      if (b.settled) {  // nothing more to look for
+        dwell_needed_[i] = std::numeric_limits<double>::infinity();
+        well_energy_[i] = -std::numeric_limits<double>::infinity();
+      }
+      bool done = failed || b.n == steps_ || (decided(b) && basin_early_stop_);
       if (b.trapped) trap_energy_[i] = -std::numeric_limits<double>::infinity();
       if (done) {
         finish(b, x, c, status);
@@ -285,6 +423,17 @@ class BlockRunner {
   void observe(Book& b, const LaneState<D>& x, const Params& c) {
     const auto& map = plan_.map;
     if (map.basin >= 0 && !b.trapped) check_trap(b, x, c);
+    if (energy_search_ && !b.settled) check_energy_trap(b, x, c);
+    if (strobe_ && !b.settled && b.n % plan_.attractors.sample_steps == 0) {
+      typename CycleTracker<N>::Point point;
+      for (int d = 0; d < D; ++d) point[d] = x.q[d], point[D + d] = x.p[d];
+      if (const int m = b.cycle.feed(point, plan_.attractors)) {
+        b.settled = true;
+        b.period = m;
+        b.attractor = b.cycle.representative(m, plan_.attractors);
+        b.settle_time = time_at(b.cycle.settled_start() * plan_.attractors.sample_steps);
+      }
+    }
     if (plan_.samples > 0) {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
@@ -300,6 +449,18 @@ class BlockRunner {
     if constexpr (requires { c.omega1_sq; }) {
       b.sync.sample(n, sync_n0_, sync_n1_, q, p, std::sqrt(c.omega1_sq), std::sqrt(c.omega2_sq));
     }
+  }
+
+  static bool decided(const Book& b) { return b.trapped || b.settled; }
+
+  // An autonomous lane settled on the fixed point near x, having stayed near it since step n0.
+  void settle(Book& b, const LaneState<D>& x, int period, std::int64_t n0) {
+    typename CycleTracker<N>::Point point;
+    for (int d = 0; d < D; ++d) point[d] = x.q[d], point[D + d] = x.p[d];
+    b.settled = true;
+    b.period = period;
+    b.attractor = CycleTracker<N>::reduced(point, plan_.attractors);
+    b.settle_time = time_at(n0);
   }
 
   void check_trap(Book& b, const LaneState<D>& x, const Params& c) {
@@ -362,18 +523,33 @@ class BlockRunner {
         if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
       }
     }
-    if (map.basin >= 0) finish_basin(b, x, status);
+    if (map.basin >= 0) finish_basin(b, x, c, status);
     if (map.sync_r >= 0) finish_sync(b, status);
   }
 
-  void finish_basin(const Book& b, const LaneState<D>& x, LaneStatus status) {
+  // The label is provisional here (1: settled) except for the trap's ±1: the attractor table,
+  // built once every block is done (attractor_table.hpp), numbers the attractors.
+  void finish_basin(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
     const auto& map = plan_.map;
-    bool decided = status == LaneStatus::ok && b.trapped;
-    // With early stop the label is taken when the trap closes; integrated to t_end it is the
-    // well the lane ends in. Both agree unless the margin were too small (tested).
-    column(map.basin, b.point)[0] = decided ? (x.q[0] > 0.0 ? 1.0 : -1.0) : 0.0;
-    column(map.settle_time, b.point)[0] =
-        decided ? b.settle_time : std::numeric_limits<double>::quiet_NaN();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const bool ok = status == LaneStatus::ok && decided(b);
+    double* point = column(map.basin_point, b.point);
+    for (int k = 0; k <= N; ++k) point[k] = nan;
+    double label = 0.0;
+    if (ok && b.trapped) {
+      // With early stop the label is taken when the trap closes; integrated to t_end it is the
+      // well the lane ends in. Both agree unless the margin were too small (tested).
+      label = x.q[0] > 0.0 ? 1.0 : -1.0;
+      if constexpr (std::is_same_v<S, DoubleWell>) {
+        point[0] = label * c.a, point[1] = 0.0, point[N] = 1.0;  // the well's minimum
+      }
+    } else if (ok) {
+      label = 1.0;
+      for (int k = 0; k < N; ++k) point[k] = b.attractor[static_cast<std::size_t>(k)];
+      point[N] = b.period;
+    }
+    column(map.basin, b.point)[0] = label;
+    column(map.settle_time, b.point)[0] = ok ? b.settle_time : nan;
   }
 
   void finish_sync(const Book& b, LaneStatus status) {
@@ -397,6 +573,11 @@ class BlockRunner {
   double t_start_ = 0.0, h_ = 0.0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
   bool basin_early_stop_ = true;
+  bool strobe_ = false;       // attractors looked for on the stroboscopic map (Book::cycle)
+  bool look_search_ = false;  // attractors looked for at every look (anchor_, near_)
+  bool energy_search_ = false;  // the energy trap of K = T + V + k·z (energy_wells.hpp)
+  BasinBox<D> box_{};
+  double angle_period_[N] = {}, angle_frequency_[N] = {};
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
   // Screening state of the main tile, structure of arrays.
@@ -406,6 +587,10 @@ class BlockRunner {
   alignas(64) int attention_[W];
   alignas(64) double trap_energy_[W];
   alignas(64) double a2_[W];
+  alignas(64) double anchor_[N][W];      // where each lane's current run near a point began
+  alignas(64) double near_[W];           // looks since then, all within the tolerance
+  alignas(64) double dwell_needed_[W];   // looks that settle a lane (∞: not searching)
+  alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
 };
 
 }  // namespace cs

@@ -15,6 +15,7 @@ namespace cs {
 struct ColumnSpec {
   DatasetSpec dataset;
   std::int64_t width = 1;
+  bool internal = false;  // kept in the journal, never written to the output
 };
 
 // The values of every column for one contiguous range of points.

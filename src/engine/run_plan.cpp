@@ -35,17 +35,20 @@ bool wants(const std::vector<std::string>& list, const std::string& name) {
 // Steps between looks at the lanes: long enough that looking costs little next to stepping
 // (32 steps: the look costs ~3 % of a chunk, at 16 it cost 12 % more instructions), short
 // enough for a prompt early stop and a settle_time resolved to 32 h; always a divisor of the
-// trajectory sampling interval so that samples fall on looks.
+// trajectory sampling interval and of the stroboscopic period, so that samples fall on looks.
 // Synchronization is sampled on looks, which must be close enough (≤ 0.2 time units) for the
 // phases to be unwrapped unambiguously and to resolve the oscillations.
 int choose_chunk(const RunSpec& spec) {
   std::int64_t cap = 32;
   if (spec.measures.sync)
     cap = std::clamp<std::int64_t>(static_cast<std::int64_t>(0.2 / spec.h), 1, 32);
-  if (!spec.measures.trajectory) return static_cast<int>(cap);
-  auto every = spec.measures.trajectory->every;
-  for (std::int64_t c = std::min<std::int64_t>(every, cap); c > 1; --c)
-    if (every % c == 0) return static_cast<int>(c);
+  std::int64_t multiple_of = 0;  // every interval the chunk must divide: their gcd
+  if (spec.measures.trajectory) multiple_of = spec.measures.trajectory->every;
+  if (spec.measures.basin && spec.measures.basin->period)
+    multiple_of = std::gcd(multiple_of, std::llround(*spec.measures.basin->period / spec.h));
+  if (multiple_of == 0) return static_cast<int>(cap);
+  for (std::int64_t c = std::min<std::int64_t>(multiple_of, cap); c > 1; --c)
+    if (multiple_of % c == 0) return static_cast<int>(c);
   return 1;
 }
 
@@ -58,10 +61,7 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   chunk = choose_chunk(spec);
   map.final_vars.assign(nvars, -1);
   map.traj_vars.assign(nvars, -1);
-  auto add = [&](DatasetSpec d, std::int64_t width = 1) {
-    columns.push_back({std::move(d), width});
-    return static_cast<int>(columns.size() - 1);
-  };
+  auto add = [&](DatasetSpec d, std::int64_t width = 1) { return add_column(std::move(d), width); };
 
   // A cell no rank wrote must never read as "ok": sweep.cpp checks that every point was
   // computed before it writes, and the file's fill value says not_computed besides.
@@ -104,13 +104,7 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     carry.z = carry.mu = true;
   }
 
-  if (measures.basin) {
-    map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
-                     "left_well undecided right_well", std::nullopt});
-    map.settle_time = add({"settle_time", ElementType::float64, false,
-                           "time at which the energy trap decided the basin", "time", {}, "",
-                           std::nullopt});
-  }
+  if (measures.basin) add_basin_columns(*measures.basin);
 
   if (measures.sync) {
     // The window's ends, rounded inwards to the looks at the lanes.
@@ -140,6 +134,49 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
     map.sync_amplitude = add({"sync_amplitude", ElementType::float64, false,
                               "smaller oscillator amplitude at the window's end", "", {}, "",
                               std::nullopt});
+  }
+}
+
+int RunPlan::add_column(DatasetSpec dataset, std::int64_t width, bool internal) {
+  columns.push_back({std::move(dataset), width, internal});
+  return static_cast<int>(columns.size() - 1);
+}
+
+void RunPlan::add_basin_columns(const BasinMeasure& basin) {
+  auto add = [&](DatasetSpec d, std::int64_t width = 1, bool internal = false) {
+    return add_column(std::move(d), width, internal);
+  };
+  const bool trap = basin.exact_trap && scene.name == "double_well" && !spec.custom;
+  basin_mode = trap ? BasinMode::trap : BasinMode::found;
+  if (trap) {
+    map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
+                     "left_well undecided right_well", std::nullopt});
+    map.settle_time = add({"settle_time", ElementType::float64, false,
+                           "time at which the energy trap decided the basin", "time", {}, "",
+                           std::nullopt});
+  } else {
+    map.basin = add({"basin", ElementType::int8, false,
+                     "basin of attraction: the attractor_label of the attractor reached (0: "
+                     "undecided)", "", {}, "", std::nullopt});
+    map.settle_time = add({"settle_time", ElementType::float64, false,
+                           "time from which the lane stayed near its attractor", "time", {}, "",
+                           std::nullopt});
+  }
+  const int phase_space = 2 * scene.dof;
+  map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
+                         std::nullopt},
+                        phase_space + 1, true);
+  AttractorSearch& a = attractors;
+  a.tolerance = basin.tolerance;
+  a.max_period = basin.max_period;
+  a.sample_steps = basin.period ? std::llround(*basin.period / spec.h) : chunk;
+  const double sample_time = static_cast<double>(a.sample_steps) * spec.h;
+  a.dwell_samples = static_cast<int>(
+      std::clamp(std::ceil(basin.dwell / sample_time - 1e-9), 1.0, 1e9));
+  a.angle_period.assign(static_cast<std::size_t>(phase_space), 0.0);
+  for (int k = 0; k < phase_space; ++k) {
+    auto it = basin.angles.find(scene.variables[static_cast<std::size_t>(k)].name);
+    if (it != basin.angles.end()) a.angle_period[static_cast<std::size_t>(k)] = it->second;
   }
 }
 

@@ -30,7 +30,20 @@ struct ColumnMap {
   std::vector<int> traj_vars;   // per catalog variable, −1 if no trajectory
   int traj_H = -1;
   int basin = -1, settle_time = -1;
+  int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
+};
+
+// How basins are decided: the double well's exact energy trap, or attractors found on line.
+enum class BasinMode { none, trap, found };
+
+// What a lane needs to find its attractor (BasinMode::found; see BasinMeasure).
+struct AttractorSearch {
+  std::int64_t sample_steps = 0;  // steps between samples: the period's, or the look interval
+  int dwell_samples = 0;          // consecutive samples near the attractor that settle a lane
+  int max_period = 1;
+  double tolerance = 0.0;
+  std::vector<double> angle_period;  // per phase-space variable q.., p..: 0 if not an angle
 };
 
 struct RunPlan {
@@ -47,6 +60,8 @@ struct RunPlan {
   // energy rises by at most 0.92·h²·a⁶ with any of our methods (worst: the second-order ones at
   // γ = 0, h ≤ 0.2; measured in test_basin.cpp), so C = 2 leaves a factor 2.2.
   static constexpr double basin_margin_coefficient = 2.0;
+  BasinMode basin_mode = BasinMode::none;
+  AttractorSearch attractors;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
   // Flat index of this plan's first point in the whole grid: a run over several step sizes
@@ -57,6 +72,10 @@ struct RunPlan {
   void (*custom_kernel)(const RunPlan&, BlockResults&) = nullptr;
 
   RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
+
+ private:
+  int add_column(DatasetSpec dataset, std::int64_t width = 1, bool internal = false);
+  void add_basin_columns(const BasinMeasure& basin);
 };
 
 // One plan per step size when the first grid axis is h (each with that h, the remaining axes

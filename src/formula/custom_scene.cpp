@@ -32,7 +32,7 @@ std::shared_ptr<const CustomScene> make_custom_scene(const std::string& K,
   info.dof = f.traits.dof;
   for (const auto& p : f.parameters) info.parameters.push_back({p, 0.0, "parameter of K"});
   info.variables = variables_of(f);
-  info.measures = {"final_state", "trajectory"};
+  info.measures = {"final_state", "trajectory", "basin"};
   info.split_parts = split_parts_of(f.traits);
   info.z_feeds_back = f.traits.z_feeds_back;
   info.default_h = 0.01;

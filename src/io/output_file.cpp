@@ -498,6 +498,7 @@ struct OutputFile::Impl {
   FileHandle file;
   std::vector<DatasetHandle> coordinates;  // axes..., then t
   std::vector<Dataset> datasets;
+  std::vector<DatasetHandle> extra_coordinates, tables;
   PropertyHandle collective_transfer;
   Checker checker;  // every HDF5 result, agreed across ranks
   bool committed = false;
@@ -512,6 +513,7 @@ struct OutputFile::Impl {
                                              std::optional<double> fill) const;
   DatasetHandle create_coordinate(const CoordinateSpec& coordinate, int dim_id);
   void create_dataset(const DatasetSpec& spec);
+  void create_table(const FileLayout& layout, const TableSpec& table);
   void write_selected(hid_t dataset, hid_t mem_type, hid_t file_space, hid_t mem_space,
                       const void* data, const std::string& name) const;
   std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
@@ -537,6 +539,8 @@ void OutputFile::Impl::validate(const FileLayout& layout) const {
     if (axis.values.empty()) fail_here("axis '" + axis.name + "' has no values");
   }
   if (layout.time) add_name(layout.time->name);
+  for (const CoordinateSpec& extra : layout.extra_dimensions) add_name(extra.name);
+  for (const TableSpec& table : layout.tables) add_name(table.dataset.name);
   for (const DatasetSpec& spec : layout.datasets) {
     add_name(spec.name);
     if (spec.has_time_dim && !layout.time) {
@@ -679,6 +683,8 @@ bool OutputFile::Impl::close_all() {
   bool ok = true;
   for (Dataset& d : datasets) ok = d.handle.close() && ok;
   for (DatasetHandle& c : coordinates) ok = c.close() && ok;
+  for (DatasetHandle& t : tables) ok = t.close() && ok;
+  for (DatasetHandle& c : extra_coordinates) ok = c.close() && ok;
   ok = collective_transfer.close() && ok;
   ok = file.close() && ok;
   return ok;
@@ -763,6 +769,52 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   }
   if (layout.time) coordinates.push_back(create_coordinate(*layout.time, dim_id++));
   for (const DatasetSpec& spec : layout.datasets) create_dataset(spec);
+  for (const CoordinateSpec& extra : layout.extra_dimensions)
+    extra_coordinates.push_back(create_coordinate(extra, dim_id++));
+  for (const TableSpec& table : layout.tables) create_table(layout, table);
+}
+
+void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& table) {
+  const DatasetSpec& spec = table.dataset;
+  const std::string what = "cannot create dataset '" + spec.name + "'";
+  std::vector<hsize_t> shape;
+  std::vector<hid_t> scales;
+  for (const std::string& dim : table.dims) {
+    for (std::size_t a = 0; a < layout.axes.size(); ++a)
+      if (layout.axes[a].name == dim) shape.push_back(grid_dims[a]), scales.push_back(coordinates[a].get());
+    for (std::size_t e = 0; e < layout.extra_dimensions.size(); ++e)
+      if (layout.extra_dimensions[e].name == dim)
+        shape.push_back(layout.extra_dimensions[e].values.size()),
+            scales.push_back(extra_coordinates[e].get());
+  }
+  const hsize_t elements =
+      std::accumulate(shape.begin(), shape.end(), hsize_t{1}, std::multiplies<>());
+  if (shape.size() != table.dims.size() || elements != table.values.size())
+    fail_here(what + ": its dimensions do not match its values");
+  SpaceHandle space(checker(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
+  PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, spec.fill_value);
+  DatasetHandle dataset(checker(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
+                                           space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
+  // Rank 0 writes every value, the others take part with nothing selected.
+  SpaceHandle file_space(checker(H5Dget_space(dataset.get()), what));
+  SpaceHandle mem_space(checker(H5Screate_simple(1, &elements, nullptr), what));
+  const bool selected = (rank == 0 && elements > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
+                                                        H5Sselect_none(mem_space.get()) >= 0);
+  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
+  std::vector<std::int8_t> i8(table.values.begin(), table.values.end());
+  std::vector<std::uint8_t> u8(table.values.begin(), table.values.end());
+  const void* data = spec.type == ElementType::int8    ? static_cast<const void*>(i8.data())
+                     : spec.type == ElementType::uint8 ? static_cast<const void*>(u8.data())
+                                                       : static_cast<const void*>(table.values.data());
+  write_selected(dataset.get(), memory_type(spec.type), file_space.get(), mem_space.get(), data,
+                 spec.name);
+  for (std::size_t d = 0; d < scales.size(); ++d)
+    checker(H5DSattach_scale(dataset.get(), scales[d], static_cast<unsigned>(d)),
+            what + ": cannot attach its dimension scale");
+  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, checker);
+  if (!spec.flag_meanings.empty())
+    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, checker);
+  tables.push_back(std::move(dataset));
 }
 
 void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange>& ranges,

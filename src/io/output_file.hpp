@@ -45,10 +45,20 @@ struct CoordinateSpec {
   std::string units;
 };
 
+// A small dataset given whole when the file is made (the attractor table, fractions along an
+// axis): over named dimensions, each a grid axis or one of the layout's extra dimensions.
+struct TableSpec {
+  DatasetSpec dataset;              // name, type and attributes (has_time_dim unused)
+  std::vector<std::string> dims;
+  std::vector<double> values;       // row-major, the product of the dims' lengths
+};
+
 struct FileLayout {
   std::vector<CoordinateSpec> axes;         // grid axes, first varies slowest; may be empty
   std::optional<CoordinateSpec> time;       // present iff some dataset has_time_dim
   std::vector<DatasetSpec> datasets;
+  std::vector<CoordinateSpec> extra_dimensions;  // e.g. `attractor`; may have length 0
+  std::vector<TableSpec> tables;
   std::map<std::string, std::string> text_attributes;     // root attributes
   std::map<std::string, double> number_attributes;        // root attributes
 };

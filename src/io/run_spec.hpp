@@ -37,8 +37,22 @@ struct TrajectoryMeasure {
   std::int64_t every = 1;         // sample every this many steps (t = 0 included)
 };
 
+// Basins (INTERFACE.md, "Basins of any system"). A lane settles when its (q, p) stays within
+// `tolerance` (max norm) of a fixed point, or of a period-m cycle of the stroboscopic map at
+// t_start + k·period, for `dwell` time units; its attractor then joins the run's table.
 struct BasinMeasure {
   bool early_stop = true;
+  std::optional<double> period;          // the forcing period (stroboscopic map); none: looks
+  std::int64_t period_steps = 0;         // period / h (whole, checked); 0 without a period
+  double tolerance = 1e-3;
+  double dwell = 0.0;                    // time units; filled in from the defaults below
+  int max_period = 1;                    // longest cycle of the stroboscopic map looked for
+  bool exact_trap = true;                // use the scene's exact energy trap where it has one
+  std::map<std::string, double> angles;  // variable → its period (compared modulo it)
+  static constexpr double kDefaultDwell = 20.0;          // time units, autonomous
+  static constexpr double kDefaultDwellPeriods = 16.0;   // periods, stroboscopic
+  static constexpr int kDefaultMaxPeriod = 8;            // with a period
+  static constexpr int kMaxPeriodLimit = 8;  // CycleTracker::kMaxPeriod
 };
 
 struct SyncMeasure {

@@ -738,12 +738,78 @@ class SpecReader {
   }
 
   void read_basin(const toml::table& measures) {
-    const toml::table* t = measure_settings(measures, "basin", {"early_stop"});
+    const toml::table* t = measure_settings(
+        measures, "basin",
+        {"early_stop", "period", "tolerance", "dwell", "max_period", "exact_trap", "angles"});
     if (t == nullptr) return;
     BasinMeasure basin;
     if (const toml::node* early_stop = t->get("early_stop"))
       basin.early_stop = boolean(*early_stop, "measures.basin.early_stop");
+    if (const toml::node* exact_trap = t->get("exact_trap"))
+      basin.exact_trap = boolean(*exact_trap, "measures.basin.exact_trap");
+    if (const toml::node* period = t->get("period")) read_basin_period(*period, basin);
+    if (const toml::node* tolerance = t->get("tolerance")) {
+      basin.tolerance = number(*tolerance, "measures.basin.tolerance");
+      if (!(basin.tolerance > 0.0))
+        fail_value(*tolerance, "measures.basin.tolerance",
+                   "a distance > 0 (max norm over q and p)");
+    }
+    basin.dwell = basin.period ? BasinMeasure::kDefaultDwellPeriods * *basin.period
+                               : BasinMeasure::kDefaultDwell;
+    if (const toml::node* dwell = t->get("dwell")) {
+      basin.dwell = number(*dwell, "measures.basin.dwell");
+      if (!(basin.dwell > 0.0))
+        fail_value(*dwell, "measures.basin.dwell",
+                   "a time > 0 (how long a lane must stay near its attractor)");
+    }
+    if (basin.period) basin.max_period = BasinMeasure::kDefaultMaxPeriod;
+    if (const toml::node* max_period = t->get("max_period")) {
+      const std::int64_t m = integer(*max_period, "measures.basin.max_period");
+      if (!basin.period && m != 1)
+        fail(max_period, "measures.basin.max_period: cycles are looked for on the stroboscopic "
+                         "map only; give measures.basin.period (the forcing period) too");
+      if (m < 1 || m > BasinMeasure::kMaxPeriodLimit)
+        fail_value(*max_period, "measures.basin.max_period",
+                   fmt::format("an integer from 1 to {}", BasinMeasure::kMaxPeriodLimit));
+      basin.max_period = static_cast<int>(m);
+    }
+    if (const toml::node* angles = t->get("angles")) {
+      const toml::table& list = table(*angles, "measures.basin.angles");
+      Names phase_space;
+      for (const auto& v : scene_->variables)
+        if (v.name != "z" && v.name != "lambda") phase_space.push_back(v.name);
+      for (const auto& [name, value] : list) {
+        const std::string key = fmt::format("measures.basin.angles.{}", name.str());
+        if (!contains(phase_space, std::string(name.str())))
+          fail(&value, fmt::format("{}: '{}' is not a position or momentum of scene '{}' ({}){}",
+                                   key, name.str(), scene_->name, fmt::join(phase_space, ", "),
+                                   did_you_mean(std::string(name.str()), phase_space, "")));
+        const double angle_period = number(value, key);
+        if (!(angle_period > 0.0))
+          fail_value(value, key, "the variable's period > 0 (e.g. 6.283185307179586)");
+        basin.angles[std::string(name.str())] = angle_period;
+      }
+    }
     spec_.measures.basin = basin;
+  }
+
+  // The stroboscopic map samples every period/h steps: a whole number for every step size.
+  void read_basin_period(const toml::node& node, BasinMeasure& basin) {
+    const std::string key = "measures.basin.period";
+    const double period = number(node, key);
+    if (!(period > 0.0)) fail_value(node, key, "the forcing period > 0");
+    std::vector<double> hs{spec_.h};
+    if (!spec_.axes.empty() && spec_.axes.front().is_step_size) hs = spec_.axes.front().values;
+    for (double h : hs) {
+      const double ratio = period / h;
+      const auto steps = std::llround(ratio);
+      if (steps < 1 || std::abs(static_cast<double>(steps) * h - period) > kStepTolerance * period)
+        fail(&node, fmt::format("{} = {}: the stroboscopic map needs a whole number of steps per "
+                                "period, but period / h = {:.12g} at h = {}; choose h = period / N",
+                                key, period, ratio, h));
+      basin.period_steps = steps;  // one per h: the plan of each step size recomputes it
+    }
+    basin.period = period;
   }
 
   void read_sync(const toml::table& measures) {

@@ -6,6 +6,8 @@
 
 #include <mpi.h>
 
+#include <vector>
+
 namespace cs {
 
 inline bool serial(MPI_Comm comm) { return comm == MPI_COMM_NULL; }
@@ -29,6 +31,29 @@ inline void allreduce(MPI_Comm comm, void* data, int count, MPI_Datatype type, M
 
 inline void bcast(MPI_Comm comm, void* data, int count, MPI_Datatype type, int root) {
   if (!serial(comm)) MPI_Bcast(data, count, type, root, comm);
+}
+
+// Every rank's values, concatenated in rank order, on every rank (all_ranks) or on rank 0 only
+// (the others get nothing back). Counts are ints: at most 2^31 − 1 values in all.
+inline std::vector<double> gather(MPI_Comm comm, const std::vector<double>& mine, bool all_ranks) {
+  if (serial(comm)) return mine;
+  const int ranks = size_of(comm);
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < ranks; ++r) {
+    offsets[static_cast<std::size_t>(r)] = total;
+    total += counts[static_cast<std::size_t>(r)];
+  }
+  std::vector<double> all(all_ranks || rank_of(comm) == 0 ? static_cast<std::size_t>(total) : 0);
+  if (all_ranks)
+    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                   MPI_DOUBLE, comm);
+  else
+    MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                MPI_DOUBLE, 0, comm);
+  return all;
 }
 
 }  // namespace cs

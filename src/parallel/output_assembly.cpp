@@ -34,7 +34,9 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
     layout.axes.push_back({axis.name, axis.values, long_name, ""});
   }
   if (plan.samples > 0) layout.time = CoordinateSpec{"t", plan.sample_times, "time", "time"};
-  for (const auto& column : plan.columns) layout.datasets.push_back(column.dataset);
+  for (const auto& column : plan.columns)
+    if (!column.internal) layout.datasets.push_back(column.dataset);
+  if (options.basins) add_to_layout(*options.basins, plan, layout);
   auto& text = layout.text_attributes;
   text["title"] = plan.spec.title;
   text["spec"] = plan.spec.spec_text;
@@ -168,6 +170,7 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
                                MPI_COMM_NULL); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec& dataset = plan.columns[k].dataset;
+    if (plan.columns[k].internal) continue;
     if (rank != 0) {
       send_column(results, k, comm);
       continue;

@@ -19,6 +19,7 @@
 
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
+#include "parallel/basin_summary.hpp"
 
 namespace cs {
 
@@ -27,6 +28,7 @@ struct OutputOptions {
   std::string command_line;     // the `history` attribute
   bool replace_existing = false;  // --force: the commit may replace a file at `path`
   std::function<void()> before_commit;  // test hook: runs on rank 0 with the file written
+  const BasinSummary* basins = nullptr;  // the attractor table and statistics, with `basin`
 };
 
 // Collective. `results` are this rank's blocks in ascending order of their points. Throws a

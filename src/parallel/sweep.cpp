@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "engine/run_plan.hpp"
@@ -23,6 +24,7 @@
 #include "io/log.hpp"
 #include "io/memory_budget.hpp"
 #include "parallel/agreement.hpp"
+#include "parallel/basin_summary.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
@@ -281,6 +283,8 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   watch.finish();
   throw_if_any_failed(comm, failure);
   check_every_point_computed(results, plan.grid.size(), c);
+  std::optional<BasinSummary> basins;
+  if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
     log("contactsweep: computed every point; writing {} ({})", options.output,
@@ -288,10 +292,11 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   // A failure here is thrown on every rank; the journal stays for --resume.
   write_output(plan, results,
                {options.output, options.command_line, decision.replace_output,
-                [&] { test_kill_point("write", c.rank); }},
+                [&] { test_kill_point("write", c.rank); }, basins ? &*basins : nullptr},
                comm);
   test_kill_point("commit", c.rank);
   if (c.rank == 0) remove_finished_journal(journal);
+  if (basins && c.rank == 0 && !options.quiet) log("contactsweep: {}", describe(*basins));
 
   std::int64_t counts[3] = {count_status(results, plan.map.status, LaneStatus::diverged),
                             count_status(results, plan.map.status, LaneStatus::breakdown),

@@ -18,10 +18,10 @@ std::vector<SceneInfo> build_catalog() {
   return {
       {"damped_oscillator", "A", "K = (p^2 + omega^2 q^2)/2 - gamma z", 1,
        {{"omega", 1.0, "angular frequency"}, {"gamma", 0.1, "damping rate"}},
-       one_dof_variables(1.0), {"final_state", "trajectory"}, split_linear, false, 0.01, 100.0},
+       one_dof_variables(1.0), {"final_state", "trajectory", "basin"}, split_linear, false, 0.01, 100.0},
       {"z2_damping", "B", "K = (p^2 + omega^2 q^2)/2 - gamma z^2", 1,
        {{"omega", 1.0, "angular frequency"}, {"gamma", 0.1, "damping coefficient of z^2"}},
-       one_dof_variables(1.0), {"final_state", "trajectory"},
+       one_dof_variables(1.0), {"final_state", "trajectory", "basin"},
        {"kinetic", "potential", "z_quadratic"}, true, 0.01, 100.0},
       {"double_well", "C", "K = p^2/2 + (q^2 - a^2)^2/2 - gamma z", 1,
        {{"a", 1.0, "well position (minima at q = +-a)"}, {"gamma", 0.1, "damping rate"}},
@@ -39,7 +39,7 @@ std::vector<SceneInfo> build_catalog() {
         {"p2", 0.0, "momentum of oscillator 2"},
         {"z", 1.0, "contact variable (minus the action)"},
         {"lambda", 1.0, "integration factor; H = lambda*K is conserved"}},
-       {"final_state", "trajectory", "sync"}, split_linear, false, 0.01, 200.0},
+       {"final_state", "trajectory", "basin", "sync"}, split_linear, false, 0.01, 200.0},
   };
 }
 

@@ -1,0 +1,41 @@
+// The run's attractors, one table for the whole grid (INTERFACE.md, "Basins of any system").
+//
+// Each settled lane reports the point of its attractor (basin_point). Within a block, lanes whose
+// points lie within kLinkTolerances tolerances of a candidate's point (and have its period) join
+// it; the candidates of all blocks are then merged the same way, in block order, and numbered in
+// a sorted order. Blocks are a function of the spec alone (sweep.cpp), so the table and every
+// label are the same bits for any number of ranks and threads; no rank's timing enters.
+#pragma once
+
+#include <vector>
+
+#include "engine/results.hpp"
+#include "engine/run_plan.hpp"
+
+namespace cs {
+
+struct Attractor {
+  int label = 0;
+  int period = 1;             // of the stroboscopic map's cycle (1: a fixed point)
+  std::vector<double> point;  // q.., p..; angles in [0, period)
+};
+
+// Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
+// than this many tolerances to be told apart.
+inline constexpr double kLinkTolerances = 4.0;
+// Labels are int8 (the double well's −1/+1 are kept), so a table holds at most this many.
+inline constexpr int kMaxAttractors = 127;
+
+// The block's candidate attractors, flat: per candidate {block begin, period, label, point..}
+// (label: the exact trap's ±1, else 0).
+std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
+
+// The table from every block's candidates (any order of blocks: they are sorted first).
+// Labels: the trap's, else 1, 2, ... in the order of (period, point). Throws InputError past
+// kMaxAttractors.
+std::vector<Attractor> merge_candidates(const RunPlan& plan, const std::vector<double>& records);
+
+// Replaces the provisional labels of a block (1: settled) by the table's.
+void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block);
+
+}  // namespace cs

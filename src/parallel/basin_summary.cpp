@@ -1,0 +1,174 @@
+#include "parallel/basin_summary.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "parallel/comm.hpp"
+
+namespace cs {
+namespace {
+
+// The plane of initial conditions: the last two axes if both set initial values, else the last
+// one if it does; the axes before it are slices (a parameter, h).
+BasinMapShape map_shape(const RunSpec& spec) {
+  BasinMapShape shape;
+  for (const auto& axis : spec.axes) shape.dims.push_back(static_cast<std::int64_t>(axis.values.size()));
+  const auto initial = [&](std::size_t from_end) {
+    if (spec.axes.size() < from_end) return false;
+    const auto& axis = spec.axes[spec.axes.size() - from_end];
+    return !axis.is_parameter && !axis.is_step_size;
+  };
+  shape.plane_axes = initial(1) ? (initial(2) ? 2 : 1) : 0;
+  return shape;
+}
+
+int first_parameter_axis(const RunSpec& spec) {
+  for (std::size_t a = 0; a < spec.axes.size(); ++a)
+    if (spec.axes[a].is_parameter) return static_cast<int>(a);
+  return -1;
+}
+
+// Rank 0: every point's label, in grid order.
+std::vector<std::int8_t> labels_on_rank0(const RunPlan& whole,
+                                         const std::vector<std::unique_ptr<BlockResults>>& results,
+                                         MPI_Comm comm) {
+  std::vector<double> mine;
+  for (const auto& block : results) {
+    mine.push_back(static_cast<double>(block->range.begin));
+    mine.push_back(static_cast<double>(block->range.end));
+    const auto& labels = block->columns[static_cast<std::size_t>(whole.map.basin)];
+    mine.insert(mine.end(), labels.begin(), labels.end());
+  }
+  const std::vector<double> all = gather(comm, mine, false);
+  std::vector<std::int8_t> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
+  for (std::size_t k = 0; k < all.size();) {
+    const auto begin = static_cast<std::int64_t>(all[k]), end = static_cast<std::int64_t>(all[k + 1]);
+    for (std::int64_t i = begin; i < end; ++i)
+      labels[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
+    k += 2 + static_cast<std::size_t>(end - begin);
+  }
+  return labels;
+}
+
+}  // namespace
+
+BasinSummary summarise_basins(const RunPlan& whole,
+                              std::vector<std::unique_ptr<BlockResults>>& results, MPI_Comm comm) {
+  BasinSummary summary;
+  std::vector<double> candidates;
+  for (const auto& block : results) {
+    const std::vector<double> c = block_candidates(whole, *block);
+    candidates.insert(candidates.end(), c.begin(), c.end());
+  }
+  summary.table = merge_candidates(whole, gather(comm, candidates, true));
+  for (auto& block : results) label_block(whole, summary.table, *block);
+  const std::vector<std::int8_t> labels = labels_on_rank0(whole, results, comm);
+  summary.continuation_axis = first_parameter_axis(whole.spec);
+  if (rank_of(comm) != 0) return summary;
+  const BasinMapShape shape = map_shape(whole.spec);
+  summary.statistics = basin_statistics(labels, shape);
+  if (summary.continuation_axis >= 0)
+    summary.continuation = fractions_along(labels, shape, summary.continuation_axis);
+  return summary;
+}
+
+void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {
+  const auto& table = basins.table;
+  const BasinStatistics& s = basins.statistics;
+  std::vector<double> labels, periods, fractions, cells;
+  for (const Attractor& a : table) {
+    labels.push_back(a.label);
+    periods.push_back(a.period);
+    auto it = s.cells.find(a.label);
+    const double n = it == s.cells.end() ? 0.0 : static_cast<double>(it->second);
+    cells.push_back(n);
+    fractions.push_back(n / static_cast<double>(s.points));
+  }
+  layout.extra_dimensions.push_back(
+      {"attractor", labels, "label of the attractor (as in basin)", ""});
+  const auto column = [&](std::string name, ElementType type, std::string long_name,
+                          std::vector<double> values) {
+    layout.tables.push_back({{std::move(name), type, false, std::move(long_name), "", {}, "",
+                              std::nullopt},
+                             {"attractor"},
+                             std::move(values)});
+  };
+  column("attractor_label", ElementType::int8, "label of the attractor in basin", labels);
+  for (int k = 0; k < 2 * plan.scene.dof; ++k) {
+    const VariableInfo& v = plan.scene.variables[static_cast<std::size_t>(k)];
+    std::vector<double> values;
+    for (const Attractor& a : table) values.push_back(a.point[static_cast<std::size_t>(k)]);
+    column("attractor_" + v.name, ElementType::float64,
+           v.description + " at a point of the attractor (on the stroboscopic section if forced)",
+           values);
+  }
+  column("attractor_period", ElementType::int8,
+         "period of the attractor on the stroboscopic map or looks (1: fixed point)", periods);
+  column("attractor_fraction", ElementType::float64, "fraction of the grid in its basin",
+         fractions);
+  column("attractor_cells", ElementType::float64, "grid points in its basin", cells);
+  auto& number = layout.number_attributes;
+  const auto undecided = s.cells.find(0);
+  number["undecided_fraction"] =
+      undecided == s.cells.end() ? 0.0
+                                 : static_cast<double>(undecided->second) / static_cast<double>(s.points);
+  number["basin_entropy"] = s.basin_entropy;
+  number["boundary_basin_entropy"] = s.boundary_basin_entropy;
+  number["basin_entropy_box_cells"] = s.box_cells;
+  number["uncertainty_exponent"] = s.uncertainty_exponent;
+  number["boundary_dimension"] = s.boundary_dimension;
+  number["basin_tolerance"] = plan.attractors.tolerance;
+  layout.text_attributes["basin_boundary"] =
+      std::isnan(s.boundary_basin_entropy) ? "no boundary on the map"
+      : s.boundary_basin_entropy > std::numbers::ln2
+          ? "fractal: boundary basin entropy > ln 2 (Daza et al. 2016)"
+          : "not shown fractal: boundary basin entropy <= ln 2";
+  if (basins.continuation_axis >= 0 && !basins.continuation.empty()) {
+    const std::string axis = plan.spec.axes[static_cast<std::size_t>(basins.continuation_axis)].name;
+    std::vector<double> f, u;
+    for (const auto& at_value : basins.continuation) {
+      for (const Attractor& a : table) {
+        auto it = at_value.find(a.label);
+        f.push_back(it == at_value.end() ? 0.0 : it->second);
+      }
+      auto it = at_value.find(0);
+      u.push_back(it == at_value.end() ? 0.0 : it->second);
+    }
+    layout.tables.push_back({{"basin_fraction", ElementType::float64, false,
+                              "fraction of the cells at this " + axis + " in each basin", "", {},
+                              "", std::nullopt},
+                             {axis, "attractor"},
+                             f});
+    layout.tables.push_back({{"basin_undecided_fraction", ElementType::float64, false,
+                              "fraction of the cells at this " + axis + " left undecided", "",
+                              {}, "", std::nullopt},
+                             {axis},
+                             u});
+  }
+}
+
+std::string describe(const BasinSummary& basins) {
+  const BasinStatistics& s = basins.statistics;
+  const auto fraction = [&](int label) {
+    auto it = s.cells.find(label);
+    return it == s.cells.end() ? 0.0 : static_cast<double>(it->second) / static_cast<double>(s.points);
+  };
+  std::string text = fmt::format("basins: {} attractor(s)", basins.table.size());
+  for (const Attractor& a : basins.table)
+    text += fmt::format("; {} ({}period {}) {:.4f}", a.label,
+                        fmt::format("{:.4g}, ", fmt::join(a.point, ", ")), a.period, fraction(a.label));
+  text += fmt::format("; undecided {:.4f}", fraction(0));
+  if (!std::isnan(s.basin_entropy))
+    text += fmt::format("; S_b = {:.4f}, S_bb = {:.4f} ({} ln 2: {}), uncertainty exponent {:.3f} "
+                        "(boundary dimension {:.3f})",
+                        s.basin_entropy, s.boundary_basin_entropy,
+                        s.boundary_basin_entropy > std::numbers::ln2 ? ">" : "<=",
+                        s.boundary_basin_entropy > std::numbers::ln2 ? "fractal boundary"
+                                                                     : "not shown fractal",
+                        s.uncertainty_exponent, s.boundary_dimension);
+  return text;
+}
+
+}  // namespace cs

@@ -1,0 +1,37 @@
+// The basins of a finished run, across ranks: the attractor table (every rank), the final labels
+// (each rank's blocks), and the statistics of the whole map (rank 0). See attractor_table.hpp
+// and basin_statistics.hpp.
+#pragma once
+
+#include <mpi.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/attractor_table.hpp"
+#include "engine/basin_statistics.hpp"
+#include "engine/run_plan.hpp"
+
+namespace cs {
+
+struct BasinSummary {
+  std::vector<Attractor> table;
+  BasinStatistics statistics;                    // rank 0
+  int continuation_axis = -1;                    // a parameter axis of the grid, if any
+  std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis
+};
+
+// Collective. Labels every block of `results` (they hold provisional labels until then).
+BasinSummary summarise_basins(const RunPlan& whole,
+                              std::vector<std::unique_ptr<BlockResults>>& results, MPI_Comm comm);
+
+// The attractor table along a dimension `attractor`, the fractions along the continuation axis
+// and the statistics as root attributes (INTERFACE.md).
+void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout);
+
+// One line for the log: attractors, fractions, S_b, S_bb and the uncertainty exponent.
+std::string describe(const BasinSummary& basins);
+
+}  // namespace cs

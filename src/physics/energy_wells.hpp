@@ -1,0 +1,247 @@
+// The exact energy trap of a dissipative mechanical scene, K = Σpᵢ²/2 + V(q) + k·z with k < 0
+// and no time: E = T + V = K(q, p, 0) obeys dE/dt = k·|p|² ≤ 0. The sublevel set {V < E} splits
+// into one component per minimum of V as long as E stays below every other critical value of V
+// (saddles, maxima: Morse theory), so a lane whose E is below the lowest of them can never leave
+// its well and ends at its minimum: its basin is decided, exactly. The double well's trap
+// (E < a⁴/2) is the case V = (q² − a²)²/2.
+//
+// The critical points are found numerically: Newton's method on ∇V from a grid of starts over a
+// box around the map's positions (BasinBox), Hessians by central differences, classified by their
+// eigenvalues. The trap level is also kept below V on the box's boundary, so that a component
+// reaching out of the box (where a critical point could hide, or V could fall without bound) never
+// counts as a well. The integrator's energy error is covered by a margin h²·κ·ΔE (κ the largest
+// curvature at a critical point, ΔE the depth of the deepest well below the level): for the
+// double well that is 2h²a⁶, twice the largest rise measured (test_basin.cpp).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "numerics/split_flows.hpp"
+#include "physics/partials.hpp"
+#include "physics/scene_concept.hpp"
+
+namespace cs {
+
+template <Scene S>
+constexpr bool has_energy_trap() {
+  if constexpr (requires { S::z_part; })
+    return S::z_part == ZPart::linear && !time_dependent<S>();
+  else
+    return false;
+}
+
+// Where the map's positions lie: each q's range over the grid, widened by half its width (at
+// least 1) on either side.
+template <int D>
+struct BasinBox {
+  std::array<double, D> lo{}, hi{};
+};
+
+template <int D>
+struct Wells {
+  bool usable = false;  // k < 0 and a trap level below which some well exists
+  double trap_energy = -std::numeric_limits<double>::infinity();  // E < this: trapped (margin in)
+  std::vector<std::array<double, D>> minima;
+  double curvature = 1.0;  // the largest |eigenvalue| of V's Hessian at a critical point
+};
+
+template <Scene S>
+class WellFinder {
+  static constexpr int D = S::dof;
+  using Point = std::array<double, D>;
+  using Params = ParamsOf<S, double>;
+
+ public:
+  WellFinder(const Params& c, const BasinBox<D>& box, double h) : c_(c), box_(box), h_(h) {}
+
+  Wells<D> find() const {
+    Wells<D> wells;
+    if constexpr (has_energy_trap<S>()) {
+      if (!(z_coefficient<S>(c_, 0.0) < 0.0)) return wells;  // no dissipation: E is not a trap
+      std::vector<Point> minima, others;
+      for (const Point& start : starts()) {
+        Point x = start;
+        if (!newton(x)) continue;
+        auto& list = is_minimum(x) ? minima : others;
+        bool known = false;
+        for (const Point& y : list) known = known || distance(x, y) <= 1e-6 * (1.0 + norm(x));
+        if (!known) list.push_back(x);
+      }
+      if (minima.empty()) return wells;
+      double level = boundary_minimum(), curvature = 0.0, lowest = INFINITY;
+      for (const Point& y : others) level = std::min(level, V(y));
+      for (const Point& y : minima) lowest = std::min(lowest, V(y));
+      for (const auto* list : {&minima, &others})
+        for (const Point& y : *list) curvature = std::max(curvature, largest_curvature(y));
+      const double margin = h_ * h_ * curvature * std::max(0.0, level - lowest);
+      wells.usable = level - margin > lowest;
+      wells.trap_energy = level - margin;
+      std::sort(minima.begin(), minima.end());
+      wells.minima = minima;
+      wells.curvature = std::max(curvature, 1e-12);
+    }
+    return wells;
+  }
+
+  // The minimum at the bottom of the well holding q (a trapped lane's): steepest descent with
+  // steps 1/κ, halved until V falls (so it never hops over a ridge into a lower well), then the
+  // nearest of the minima found. One well: nothing to descend.
+  Point bottom(const double* q, const Wells<D>& wells) const {
+    if (wells.minima.size() == 1) return wells.minima.front();
+    Point x;
+    std::copy(q, q + D, x.begin());
+    const double step = 1.0 / wells.curvature;
+    double vx = V(x);
+    for (int k = 0; k < 100000; ++k) {
+      const Point g = gradient(x);
+      double s = step;
+      Point y;
+      for (int i = 0; i < D; ++i) y[i] = x[i] - s * g[i];
+      double vy = V(y);
+      while (!(vy < vx) && s > 1e-6 * step) {
+        s *= 0.5;
+        for (int i = 0; i < D; ++i) y[i] = x[i] - s * g[i];
+        vy = V(y);
+      }
+      if (!(vy < vx)) break;
+      x = y, vx = vy;
+      if (nearest(x, wells).second < kSettled) break;
+    }
+    return nearest(x, wells).first;
+  }
+
+ private:
+  static constexpr double kSettled = 1e-3;  // near enough to a minimum to tell which one
+
+  static std::pair<Point, double> nearest(const Point& x, const Wells<D>& wells) {
+    Point best = x;
+    double d = INFINITY;
+    for (const Point& m : wells.minima)
+      if (distance(m, x) < d) d = distance(m, x), best = m;
+    return {best, d};
+  }
+
+  double V(const Point& x) const {
+    if constexpr (has_energy_trap<S>()) return potential<S>(x.data(), c_, 0.0);
+    else return 0.0;
+  }
+  Point gradient(const Point& x) const {
+    Point g{};
+    if constexpr (has_energy_trap<S>())
+      for_each_dof<D>([&](auto i) { g[i] = potential_force<S, decltype(i)::value>(x.data(), c_, 0.0); });
+    return g;
+  }
+  Eigen::Matrix<double, D, D> hessian(const Point& x) const {
+    Eigen::Matrix<double, D, D> H;
+    for (int j = 0; j < D; ++j) {
+      const double d = 1e-5 * (1.0 + std::fabs(x[j]));
+      Point a = x, b = x;
+      a[j] += d, b[j] -= d;
+      const Point ga = gradient(a), gb = gradient(b);
+      for (int i = 0; i < D; ++i) H(i, j) = (ga[i] - gb[i]) / (2.0 * d);
+    }
+    return 0.5 * (H + H.transpose());
+  }
+  Eigen::Matrix<double, D, 1> eigenvalues(const Point& x) const {
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(hessian(x)).eigenvalues();
+  }
+  bool is_minimum(const Point& x) const { return eigenvalues(x).minCoeff() > 0.0; }
+  double largest_curvature(const Point& x) const { return eigenvalues(x).cwiseAbs().maxCoeff(); }
+
+  bool newton(Point& x) const {
+    for (int k = 0; k < 100; ++k) {
+      const Point g = gradient(x);
+      Eigen::Matrix<double, D, 1> gv;
+      for (int i = 0; i < D; ++i) gv[i] = g[i];
+      const Eigen::Matrix<double, D, 1> dx = hessian(x).fullPivLu().solve(-gv);
+      if (!dx.allFinite()) return false;
+      for (int i = 0; i < D; ++i) x[i] += dx[i];
+      if (!inside(x, 2.0)) return false;
+      if (dx.cwiseAbs().maxCoeff() <= 1e-13 * (1.0 + norm(x))) break;
+    }
+    return norm(gradient(x)) <= 1e-8 * (1.0 + std::fabs(V(x)));
+  }
+
+  // A grid of starts over the box: 24 per axis for one q, fewer as D grows (≤ 4096 in all).
+  std::vector<Point> starts() const {
+    const int n = D == 1 ? 24 : D == 2 ? 24 : D == 3 ? 12 : 6;
+    std::vector<Point> out;
+    std::array<int, D> index{};
+    while (true) {
+      Point x;
+      for (int i = 0; i < D; ++i)
+        x[i] = box_.lo[i] + (index[i] + 0.5) / n * (box_.hi[i] - box_.lo[i]);
+      out.push_back(x);
+      int i = 0;
+      while (i < D && ++index[i] == n) index[i++] = 0;
+      if (i == D) break;
+    }
+    return out;
+  }
+
+  // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
+  // 1% of V's range there: a component of {V < E} below it stays inside the box.
+  double boundary_minimum() const {
+    constexpr int n = 512;
+    double least = INFINITY, most = -INFINITY;
+    for (int face = 0; face < D; ++face)
+      for (int side = 0; side < 2; ++side)
+        for (const Point& start : starts_on_face(face, side, n)) {
+          least = std::min(least, V(start));
+          most = std::max(most, V(start));
+        }
+    return least - 0.01 * (most - least);
+  }
+  std::vector<Point> starts_on_face(int face, int side, int n) const {
+    std::vector<Point> out;
+    const int others = D - 1;
+    const int count = others == 0 ? 1 : others == 1 ? n : others == 2 ? 64 * 64 : 16 * 16 * 16;
+    const int per_axis = others == 0 ? 1 : others == 1 ? n : others == 2 ? 64 : 16;
+    for (int k = 0; k < count; ++k) {
+      Point x;
+      int rest = k;
+      for (int i = 0; i < D; ++i) {
+        if (i == face) {
+          x[i] = side ? box_.hi[i] : box_.lo[i];
+          continue;
+        }
+        const int j = rest % per_axis;
+        rest /= per_axis;
+        x[i] = box_.lo[i] + (per_axis == 1 ? 0.5 : j / (per_axis - 1.0)) * (box_.hi[i] - box_.lo[i]);
+      }
+      out.push_back(x);
+    }
+    return out;
+  }
+
+  bool inside(const Point& x, double widen) const {
+    for (int i = 0; i < D; ++i) {
+      const double mid = 0.5 * (box_.lo[i] + box_.hi[i]), half = 0.5 * (box_.hi[i] - box_.lo[i]);
+      if (!(std::fabs(x[i] - mid) <= widen * half)) return false;
+    }
+    return true;
+  }
+  static double norm(const Point& x) {
+    double n = 0.0;
+    for (double v : x) n = std::max(n, std::fabs(v));
+    return n;
+  }
+  static double distance(const Point& x, const Point& y) {
+    double n = 0.0;
+    for (int i = 0; i < D; ++i) n = std::max(n, std::fabs(x[i] - y[i]));
+    return n;
+  }
+
+  Params c_;
+  BasinBox<D> box_;
+  double h_;
+};
+
+}  // namespace cs
