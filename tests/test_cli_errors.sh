@@ -165,8 +165,17 @@ k_expect "K not a string" "scene.K: expected a string (in quotes), got a float 3
 k_expect "a splitting on a K that does not split" \
   'method "contact_splitting4" needs K = sum of p_i^2/2 + V(q, t) + c(t)*z' \
   'K = "p^4/4 + q^2/2 - z"' 'method = "contact_splitting4"'
-k_expect "basin on a custom K (issue 11)" "measures.basin: scene 'custom' does not support 'basin'" \
-  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = {}'
+k_expect "basin period not whole steps" \
+  "measures.basin.period = 0.0333: the stroboscopic map needs a whole number of steps per period" \
+  'K = "p^2/2 + q^2/2 - 0.1*z - cos(t)*q"' '' '' 'basin = { period = 0.0333 }'
+k_expect "basin angle of an unknown variable" \
+  "measures.basin.angles.theta: 'theta' is not a position or momentum of scene 'custom' (q, p)" \
+  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = { angles = { theta = 6.28 } }'
+k_expect "basin cycles without a period" \
+  "measures.basin.max_period: cycles are looked for on the stroboscopic map only" \
+  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = { max_period = 2 }'
+k_expect "basin tolerance zero" "expected a distance > 0 (max norm over q and p)" \
+  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = { tolerance = 0.0 }'
 k_expect "sync on a custom K (issue 11)" "measures.sync: scene 'custom' does not support 'sync'" \
   'K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 - 0.1*z"' '' '' 'sync = {}'
 k_expect "an initial variable K does not have" "unknown key 'initial.q2'" \

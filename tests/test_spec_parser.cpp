@@ -670,7 +670,8 @@ const std::vector<BadSpec> kBadSpecs = {
     {"early_stop_string", kDw + "[measures]\nbasin = { early_stop = \"no\" }\n", {},
      "measures.basin.early_stop: expected true or false, got a string \"no\""},
     {"measure_number", kDw + "[measures]\nbasin = 1\n", {},
-     "measures.basin: expected true, false or a table { early_stop = ... }, got an integer 1"},
+     "measures.basin: expected true, false or a table { early_stop, period, tolerance, dwell, "
+     "max_period, exact_trap, angles = ... }, got an integer 1"},
     {"vars_not_array", kDw + "[measures]\nfinal_state = { vars = \"q\" }\n", {},
      "measures.final_state.vars: expected an array"},
     // Values out of range, non-finite numbers.
@@ -723,9 +724,9 @@ const std::vector<BadSpec> kBadSpecs = {
                             "z_0 = { from = 0, to = 1, n = 4294967296 }\n", {},
      "the grid has more than 2^40"},
     // Measures.
-    {"basin_unsupported", "[scene]\nname = \"damped_oscillator\"\n[measures]\nbasin = {}\n", {},
-     "measures.basin: scene 'damped_oscillator' does not support 'basin'; it supports: "
-     "final_state, trajectory"},
+    {"sync_unsupported_a", "[scene]\nname = \"damped_oscillator\"\n[measures]\nsync = {}\n", {},
+     "measures.sync: scene 'damped_oscillator' does not support 'sync'; it supports: "
+     "final_state, trajectory, basin"},
     {"sync_unsupported", kDw + "[measures]\nsync = { window = [1.0, 2.0] }\n", {},
      "scene 'double_well' does not support 'sync'; it supports: final_state, trajectory, basin"},
     {"vars_unknown", kDw + "[measures]\nfinal_state = { vars = [\"q\", \"q1\"] }\n", {},

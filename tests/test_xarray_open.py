@@ -7,7 +7,8 @@ Generic checks, for any contactsweep output:
   * opens with engine="h5netcdf" while the netCDF4 module is hidden (it must not be needed),
     without warnings from the decoders;
   * every dimension has a float64 coordinate of the same name (not decoded to times);
-  * every data variable has the dims (axes...) or (axes..., t), the same axes for all, t last;
+  * every data variable has the dims (axes...) or (axes..., t), the same axes for all, t last,
+    but for the attractor table of a basin map (dims over `attractor` and the axes);
   * every variable has a str long_name; no attribute anywhere comes back as bytes;
   * flag_values and _FillValue have the variable's own stored dtype, and flag_meanings has one
     word per flag value;
@@ -69,17 +70,24 @@ def check_coordinates(ds):
     return problems
 
 
-def expected_axes(ds, wanted_dims):
+def expected_axes(ds, wanted_dims):  # TABLES: defined below, read at call time
     if wanted_dims is not None:
-        return tuple(d for d, _ in wanted_dims if d != TIME)
+        return tuple(d for d, _ in wanted_dims if d != TIME and d not in TABLES)
     # The longest dims tuple of the data variables, without t.
     dims = [tuple(d for d in v.dims if d != TIME) for v in ds.data_vars.values()]
     return max(dims, key=len, default=())
 
 
+# The attractor table of a basin map, and its fractions along one axis (a continuation).
+TABLES = {"attractor"}
+
+
 def check_data_variables(ds, axes):
     problems = []
     for name, var in ds.data_vars.items():
+        is_table = set(var.dims) & TABLES or name == "basin_undecided_fraction"
+        if is_table and set(var.dims) <= set(axes) | TABLES:
+            continue
         if var.dims not in (axes, axes + (TIME,)):
             problems.append(f"{name!r} has dims {var.dims}, expected {axes} or {axes + (TIME,)}")
     return problems

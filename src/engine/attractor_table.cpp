@@ -81,10 +81,17 @@ std::vector<Attractor> merge_candidates(const RunPlan& plan, const std::vector<d
     add_sighting(plan,
                  {&records[r + 3], static_cast<int>(records[r + 1]), static_cast<int>(records[r + 2])},
                  table);
-  std::sort(table.begin(), table.end(), [](const Attractor& a, const Attractor& b) {
+  // Coordinates within the link distance count as equal, so that the order (and the labels) do
+  // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's
+  // magnets at (−1/2, ±√3/2) share q1 up to rounding.
+  const double link = link_distance(plan);
+  const std::size_t n = static_cast<std::size_t>(phase_space(plan));
+  std::sort(table.begin(), table.end(), [&](const Attractor& a, const Attractor& b) {
     if (a.label != b.label) return a.label < b.label;
     if (a.period != b.period) return a.period < b.period;
-    return a.point < b.point;
+    for (std::size_t k = 0; k < n; ++k)
+      if (std::fabs(a.point[k] - b.point[k]) > link) return a.point[k] < b.point[k];
+    return false;
   });
   if (plan.basin_mode != BasinMode::trap) {
     if (static_cast<int>(table.size()) > kMaxAttractors)

@@ -71,9 +71,9 @@ class BlockRunner {
     const bool found = plan.basin_mode == BasinMode::found;
     strobe_ = found && m.basin->period.has_value();
     look_search_ = found && !strobe_;
-    energy_search_ = found && has_energy_trap<S>();
+    energy_search_ = found && has_energy_trap<S>() && m.basin->exact_trap;
     if (energy_search_) box_ = basin_box();
-    for (int k = 0; k < N; ++k) {
+    for (int k = 0; k < N && found; ++k) {
       angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
       angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
     }
@@ -296,9 +296,10 @@ class BlockRunner {
       const Wells<D>& wells = wells_for(c);
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
       const auto bottom = WellFinder<S>(c, box_, h_).bottom(x.q, wells);
+      if (!bottom) return;
       b.settled = true;
       b.period = 1;
-      for (int d = 0; d < D; ++d) b.attractor[d] = bottom[d], b.attractor[D + d] = 0.0;
+      for (int d = 0; d < D; ++d) b.attractor[d] = (*bottom)[d], b.attractor[D + d] = 0.0;
       b.settle_time = time_at(b.n);
     }
   }

@@ -20,6 +20,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -93,7 +94,9 @@ class WellFinder {
   // The minimum at the bottom of the well holding q (a trapped lane's): steepest descent with
   // steps 1/κ, halved until V falls (so it never hops over a ridge into a lower well), then the
   // nearest of the minima found. One well: nothing to descend.
-  Point bottom(const double* q, const Wells<D>& wells) const {
+  // Empty when the descent ends at no minimum found at set-up (one was missed): the lane is
+  // then not trapped, and settles on line instead.
+  std::optional<Point> bottom(const double* q, const Wells<D>& wells) const {
     if (wells.minima.size() == 1) return wells.minima.front();
     Point x;
     std::copy(q, q + D, x.begin());
@@ -114,7 +117,9 @@ class WellFinder {
       x = y, vx = vy;
       if (nearest(x, wells).second < kSettled) break;
     }
-    return nearest(x, wells).first;
+    const auto [m, d] = nearest(x, wells);
+    if (d < kSettled) return m;
+    return std::nullopt;
   }
 
  private:
@@ -155,23 +160,39 @@ class WellFinder {
   bool is_minimum(const Point& x) const { return eigenvalues(x).minCoeff() > 0.0; }
   double largest_curvature(const Point& x) const { return eigenvalues(x).cwiseAbs().maxCoeff(); }
 
+  // Newton's method on ∇V = 0, damped: a step is halved until |∇V| falls, and never longer
+  // than a twentieth of the box (sharp wells, like the magnetic pendulum's, throw an undamped
+  // Newton step far off from a start a little outside their concave core).
   bool newton(Point& x) const {
-    for (int k = 0; k < 100; ++k) {
+    double gx = norm(gradient(x));
+    for (int k = 0; k < 200 && gx > 0.0; ++k) {
       const Point g = gradient(x);
       Eigen::Matrix<double, D, 1> gv;
       for (int i = 0; i < D; ++i) gv[i] = g[i];
-      const Eigen::Matrix<double, D, 1> dx = hessian(x).fullPivLu().solve(-gv);
+      Eigen::Matrix<double, D, 1> dx = hessian(x).fullPivLu().solve(-gv);
       if (!dx.allFinite()) return false;
-      for (int i = 0; i < D; ++i) x[i] += dx[i];
+      const double longest = dx.cwiseAbs().maxCoeff(), cap = 0.05 * box_width();
+      if (longest > cap) dx *= cap / longest;
+      double s = 1.0;
+      Point y;
+      double gy = INFINITY;
+      for (; s > 1e-6; s *= 0.5) {
+        for (int i = 0; i < D; ++i) y[i] = x[i] + s * dx[i];
+        gy = norm(gradient(y));
+        if (gy < gx) break;
+      }
+      if (!(gy < gx)) break;  // no progress: a critical point, or a dead end
+      const double moved = s * dx.cwiseAbs().maxCoeff();
+      x = y, gx = gy;
       if (!inside(x, 2.0)) return false;
-      if (dx.cwiseAbs().maxCoeff() <= 1e-13 * (1.0 + norm(x))) break;
+      if (moved <= 1e-14 * (1.0 + norm(x))) break;
     }
-    return norm(gradient(x)) <= 1e-8 * (1.0 + std::fabs(V(x)));
+    return gx <= 1e-8 * (1.0 + std::fabs(V(x)));
   }
 
-  // A grid of starts over the box: 24 per axis for one q, fewer as D grows (≤ 4096 in all).
+  // A grid of starts over the box: 64 for one q, 48² for two, fewer per axis as D grows.
   std::vector<Point> starts() const {
-    const int n = D == 1 ? 24 : D == 2 ? 24 : D == 3 ? 12 : 6;
+    const int n = D == 1 ? 64 : D == 2 ? 48 : D == 3 ? 16 : 6;
     std::vector<Point> out;
     std::array<int, D> index{};
     while (true) {
@@ -188,6 +209,11 @@ class WellFinder {
 
   // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
   // 1% of V's range there: a component of {V < E} below it stays inside the box.
+  double box_width() const {
+    double w = 0.0;
+    for (int i = 0; i < D; ++i) w = std::max(w, box_.hi[i] - box_.lo[i]);
+    return w;
+  }
   double boundary_minimum() const {
     constexpr int n = 512;
     double least = INFINITY, most = -INFINITY;
