@@ -35,7 +35,6 @@ else bad "the installed program builds and runs a K kernel"; fi
 # The generated source compiles against the installed headers alone (no source tree on -I).
 mpi_dirs=()
 for d in $(mpicxx --showme:incdirs 2>/dev/null); do mpi_dirs+=("-isystem" "$d"); done
-mpi_dirs+=("-isystem" /usr/include/eigen3)  # Eigen, a dependency like MPI (energy_wells.hpp)
 source=$(ls "$work"/cache/kernel-*.cpp 2>/dev/null | head -1)
 if [[ -n $source ]] && c++ -std=c++20 -fsyntax-only -I"$work/prefix/share/contactsweep/include" \
      "${mpi_dirs[@]}" "$source" >"$work/log" 2>&1; then

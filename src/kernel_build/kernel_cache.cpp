@@ -153,7 +153,7 @@ Toolchain toolchain() {
   tc.flags.push_back("-fPIC");
   tc.flags.push_back("-shared");
   tc.include_dir = header_directory();
-  tc.system_include_dirs = split(toolchain_config::kSystemIncludeDirs, ';');
+  tc.system_include_dirs = split(toolchain_config::kMpiIncludeDirs, ';');
   return tc;
 }
 
