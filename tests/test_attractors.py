@@ -158,6 +158,16 @@ if mp and mp_online:
         check(f"magnetic pendulum: {key} reported and in range",
               0.0 < mp.attrs[key] < (math.log(3) if "entropy" in key else 2.0), str(mp.attrs[key]))
 
+    # The engine's S_b and S_bb against the post-processing module's (src/post/basin_entropy.py),
+    # written independently: the same boxes of 5 x 5 cells, 0 counted as an outcome.
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "post"))
+    from basin_entropy import basin_entropy
+    reference = basin_entropy(mp["basin"][...], eps=5)
+    check("magnetic pendulum: S_b and S_bb equal src/post/basin_entropy.py's (to 1e-12)",
+          abs(reference.S_b - mp.attrs["basin_entropy"]) < 1e-12
+          and abs(reference.S_bb - mp.attrs["boundary_basin_entropy"]) < 1e-12,
+          f"{reference} vs {mp.attrs['basin_entropy']}, {mp.attrs['boundary_basin_entropy']}")
+
 # Same spec, same bits, for any ranks x threads, with the trap and with the on-line search.
 for mode, basin in (("trap", "{}"), ("online", "{ exact_trap = false }")):
     outputs = []

@@ -63,7 +63,7 @@ class CycleTracker {
         if (phase_distance<N>(x.data(), anchor.data(), search) <= search.tolerance) {
           if (++run.matched >= search.dwell_samples) {
             settled_start_ = run.start;
-            return m;
+            return shortest_period(m, search);
           }
           continue;
         }
@@ -79,14 +79,35 @@ class CycleTracker {
     return 0;
   }
 
+  // A cycle of m samples may be one of a divisor d of m gone round m/d times: a fixed point
+  // approached by samples that alternate about it passes for a 2-cycle before it does for a
+  // fixed point. The last m samples (each within the tolerance of its anchor, so within two of
+  // each other) decide.
+  int shortest_period(int m, const AttractorSearch& search) const {
+    for (int d = 1; d < m; ++d) {
+      if (m % d != 0) continue;
+      bool repeats = true;
+      for (int j = 0; j + d < m && repeats; ++j)
+        repeats = phase_distance<N>(sample_back(j).data(), sample_back(j + d).data(), search) <=
+                  2.0 * search.tolerance;
+      if (repeats) return d;
+    }
+    return m;
+  }
+
+  // The sample j before the last.
+  const Point& sample_back(int j) const {
+    return ring_[static_cast<std::size_t>((samples_ - 1 - j) % kMaxPeriod)];
+  }
+
   // The sample that opened the run that settled.
   std::int64_t settled_start() const { return settled_start_; }
 
   // The cycle's point for the table (the last m samples hold the cycle), angles reduced.
   Point representative(int m, const AttractorSearch& search) const {
-    Point best = ring_[static_cast<std::size_t>((samples_ - 1) % kMaxPeriod)];
-    for (int r = 2; r <= m; ++r) {
-      const Point& x = ring_[static_cast<std::size_t>((samples_ - r) % kMaxPeriod)];
+    Point best = sample_back(0);
+    for (int r = 1; r < m; ++r) {
+      const Point& x = sample_back(r);
       if (precedes<N>(reduced(x, search).data(), reduced(best, search).data(), search.tolerance))
         best = x;
     }

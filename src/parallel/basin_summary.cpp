@@ -71,6 +71,17 @@ BasinSummary summarise_basins(const RunPlan& whole,
   summary.statistics = basin_statistics(labels, shape);
   if (summary.continuation_axis >= 0)
     summary.continuation = fractions_along(labels, shape, summary.continuation_axis);
+  // The usual layout (the parameter first, the plane last): S_b, S_bb and α per value too.
+  if (summary.continuation_axis == 0 && shape.plane_axes > 0 &&
+      shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1) {
+    BasinMapShape slice = shape;
+    slice.dims.erase(slice.dims.begin());
+    const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
+    for (std::int64_t v = 0; v < shape.dims[0]; ++v)
+      summary.continuation_statistics.push_back(basin_statistics(
+          std::vector<std::int8_t>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
+          slice));
+  }
   return summary;
 }
 
@@ -146,6 +157,23 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
                               {}, "", std::nullopt},
                              {axis},
                              u});
+    const auto per_value = [&](std::string name, std::string long_name, auto field) {
+      std::vector<double> values;
+      for (const BasinStatistics& at_value : basins.continuation_statistics)
+        values.push_back(field(at_value));
+      layout.tables.push_back({{std::move(name), ElementType::float64, false,
+                                std::move(long_name), "", {}, "", std::nullopt},
+                               {axis},
+                               std::move(values)});
+    };
+    if (!basins.continuation_statistics.empty()) {
+      per_value("basin_entropy", "basin entropy S_b of the map at this " + axis,
+                [](const BasinStatistics& b) { return b.basin_entropy; });
+      per_value("boundary_basin_entropy", "boundary basin entropy S_bb of the map at this " + axis,
+                [](const BasinStatistics& b) { return b.boundary_basin_entropy; });
+      per_value("uncertainty_exponent", "uncertainty exponent of the map at this " + axis,
+                [](const BasinStatistics& b) { return b.uncertainty_exponent; });
+    }
   }
 }
 

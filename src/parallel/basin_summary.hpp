@@ -21,6 +21,7 @@ struct BasinSummary {
   BasinStatistics statistics;                    // rank 0
   int continuation_axis = -1;                    // a parameter axis of the grid, if any
   std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis
+  std::vector<BasinStatistics> continuation_statistics;  // rank 0: per value, if it is axis 0
 };
 
 // Collective. Labels every block of `results` (they hold provisional labels until then).
