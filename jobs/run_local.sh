@@ -35,6 +35,12 @@ for name in basins_double_well sync_g_gamma; do  # the maps, once their specs ar
   if [[ -f sweeps/$name.toml ]]; then run "$name"; else echo "== $name: no sweeps/$name.toml, skipped"; fi
 done
 
+basins=(basins_magnetic_pendulum basins_magnetic_continuation basins_forced_duffing basins_spin_orbit)
+for name in "${basins[@]}"; do run "$name"; done  # basins of any system (K in the spec)
+
 /usr/bin/python3 src/post/plot_paper_figures.py --in out --out out/figures
 /usr/bin/python3 src/post/plot_maps.py --in out --out out/figures
+files=()
+for name in "${basins[@]}"; do files+=("out/$name.h5"); done
+/usr/bin/python3 src/post/plot_basins.py out/figures "${files[@]}"
 echo "done: results in out/, figures in out/figures/"

@@ -86,13 +86,18 @@ def basin_map(ds, out, eps):
 
 
 def sync_map(ds, out):
-    panels = [("sync_r", dict(cmap="viridis", vmin=0, vmax=1)),
-              ("sync_phase_drift", dict(cmap="coolwarm", center=0)),
-              ("sync_freq_ratio", dict(cmap="coolwarm", center=1)),
-              ("sync_amplitude", dict(cmap="magma"))]
-    panels = [(n, kw) for n, kw in panels if n in ds]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), squeeze=False)
-    for ax, (name, kw) in zip(axes.flat, panels):
+    # Short titles and colour-bar labels: the datasets' long_names are sentences, which overlapped
+    # one another and were cut off at the figure's edge.
+    panels = [("sync_r", "phase-locking value r", "r", dict(cmap="viridis", vmin=0, vmax=1)),
+              ("sync_phase_drift", "phase drift d(θ₁ − θ₂)/dt", "rad / time",
+               dict(cmap="coolwarm", center=0)),
+              ("sync_freq_ratio", "frequency ratio ω₁/ω₂ (measured)", "ω₁/ω₂",
+               dict(cmap="coolwarm", center=1)),
+              ("sync_amplitude", "smaller amplitude at the window's end", "amplitude",
+               dict(cmap="magma"))]
+    panels = [(n, title, unit, kw) for n, title, unit, kw in panels if n in ds]
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), squeeze=False, layout="constrained")
+    for ax, (name, title, unit, kw) in zip(axes.flat, panels):
         da = ds[name].squeeze()
         if da.ndim != 2:
             print(f"sync map: {name} has dims {da.dims}, need two; skipped", file=sys.stderr)
@@ -101,8 +106,11 @@ def sync_map(ds, out):
             v = da.values[np.isfinite(da.values) & (da.values > 0)]
             if v.size and v.max() > 100 * v.min():
                 kw = dict(kw, norm=LogNorm(v.min(), v.max()))
-        da.plot.pcolormesh(ax=ax, x=da.dims[0], y=da.dims[1], **kw)  # cells centred on the grid
-        ax.set_title(da.attrs.get("long_name", name), fontsize="medium")
+        da.plot.pcolormesh(ax=ax, x=da.dims[0], y=da.dims[1], cbar_kwargs={"label": unit},
+                           **kw)  # cells centred on the grid
+        ax.set_title(title, fontsize="medium")
+        ax.set_xlabel(da.dims[0])
+        ax.set_ylabel(da.dims[1])
     for ax in axes.flat[len(panels):]:
         ax.set_visible(False)
     fig.suptitle(ds.attrs.get("title", "Synchronization map"))
@@ -115,7 +123,8 @@ def label_of(coord):
 
 
 def save(fig, path):
-    fig.tight_layout()
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     print(f"wrote {path}")
