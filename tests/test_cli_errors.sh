@@ -176,8 +176,11 @@ k_expect "basin cycles without a period" \
   'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = { max_period = 2 }'
 k_expect "basin tolerance zero" "expected a distance > 0 (max norm over q and p)" \
   'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'basin = { tolerance = 0.0 }'
-k_expect "sync on a custom K (issue 11)" "measures.sync: scene 'custom' does not support 'sync'" \
-  'K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 - 0.1*z"' '' '' 'sync = {}'
+k_expect "sync on a one-dof K" "measures.sync: scene 'custom' does not support 'sync'" \
+  'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'sync = {}'
+k_expect "sync of a degree of freedom K does not have" \
+  "measures.sync.dof[1] = 3: expected a degree of freedom of scene 'custom', from 1 to 2" \
+  'K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 - 0.1*z"' '' '' 'sync = { dof = [1, 3] }'
 k_expect "an initial variable K does not have" "unknown key 'initial.q2'" \
   'K = "p^2/2 + q^2/2"' '' $'[initial]\nq2 = 1.0'
 k_expect "an initial momentum beyond K's dof" "unknown key 'initial.p3'" \

@@ -102,8 +102,14 @@ def main():
         check(failures, b["ref_diff"] < 0.1 * min(x for x in f if x > 0),
               f"basin reference against h/2: {b['ref_diff']:.2e} < 10 % of the smallest hybrid fraction")
 
+        mp = res["basins_magnetic_pendulum"]
+        hybrid = [r["differ"] for r in mp["methods"]["hybrid_leapfrog"]]
+        check(failures, all(0.0 <= x < 0.5 for x in hybrid) and mp["ref_diff"] < 0.05,
+              f"magnetic pendulum basin map: hybrid_leapfrog differs in {hybrid}, the reference "
+              f"against h/2 in {mp['ref_diff']:.3f}")
+
         for name in ("workprecision_damped_oscillator.png", "workprecision_double_well.png",
-                     "basin_accuracy.png"):
+                     "basin_accuracy.png", "basin_accuracy_magnetic_pendulum.png"):
             path = out / name
             ok = path.is_file() and min(matplotlib.image.imread(path).shape[:2]) > 300
             check(failures, ok, f"{name} written, a real image")

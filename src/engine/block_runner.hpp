@@ -16,6 +16,7 @@
 #include <cstring>
 #include <deque>
 #include <limits>
+#include <mutex>
 
 #include "engine/attractor_search.hpp"
 #include "engine/lane_tile.hpp"
@@ -270,7 +271,9 @@ class BlockRunner {
     return box;
   }
 
-  // The wells of one parameter set, found once per thread and kept (the same bits wherever).
+  // The wells of one parameter set, found once per process and kept (~0.1 s for the magnetic
+  // pendulum; the same bits whichever thread finds them). Entries are never removed, so the
+  // references handed out stay valid; a grid has few distinct parameter sets.
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
@@ -278,12 +281,13 @@ class BlockRunner {
       double h;
       Wells<D> wells;
     };
-    static thread_local std::deque<Known> known;
+    static std::mutex mutex;
+    static std::deque<Known> known;
+    std::lock_guard lock(mutex);
     for (const Known& k : known)
       if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == box_.lo && k.box.hi == box_.hi &&
           k.h == h_)
         return k.wells;
-    if (known.size() > 4096) known.pop_front();
     known.push_back({c, box_, h_, WellFinder<S>(c, box_, h_).find()});
     return known.back().wells;
   }
@@ -447,8 +451,17 @@ class BlockRunner {
   }
 
   void sample_sync(Book& b, std::int64_t n, const double* q, const double* p, const Params& c) {
-    if constexpr (requires { c.omega1_sq; }) {
-      b.sync.sample(n, sync_n0_, sync_n1_, q, p, std::sqrt(c.omega1_sq), std::sqrt(c.omega2_sq));
+    if constexpr (D >= 2) {
+      const auto& sync = *plan_.spec.measures.sync;
+      const int i = sync.dof[0], j = sync.dof[1];
+      double omega_i = 1.0, omega_j = 1.0;
+      if (sync.omega) {
+        omega_i = (*sync.omega)[0], omega_j = (*sync.omega)[1];
+      } else if constexpr (requires { c.omega1_sq; }) {  // coupled_oscillators: its own
+        omega_i = std::sqrt(i == 0 ? c.omega1_sq : c.omega2_sq);
+        omega_j = std::sqrt(j == 0 ? c.omega1_sq : c.omega2_sq);
+      }
+      b.sync.sample(n, sync_n0_, sync_n1_, q[i], p[i], q[j], p[j], omega_i, omega_j);
     }
   }
 

@@ -20,10 +20,11 @@ struct SyncResult {
 class SyncTracker {
  public:
   // Feed the state at step n; returns true when n is the window's last step (result() is ready).
-  bool sample(std::int64_t n, std::int64_t n0, std::int64_t n1, const double* q, const double* p,
-              double omega1, double omega2) {
+  // (q1, p1) and (q2, p2) are the two degrees of freedom compared.
+  bool sample(std::int64_t n, std::int64_t n0, std::int64_t n1, double q1, double p1, double q2,
+              double p2, double omega1, double omega2) {
     if (n < n0 || n > n1) return false;
-    double x1 = q[0], y1 = -p[0] / omega1, x2 = q[1], y2 = -p[1] / omega2;
+    double x1 = q1, y1 = -p1 / omega1, x2 = q2, y2 = -p2 / omega2;
     double th1 = std::atan2(y1, x1), th2 = std::atan2(y2, x2);
     if (n == n0) {
       start1_ = unwrapped1_ = th1;

@@ -3,6 +3,7 @@
 // user input happens while building it (spec_parser.cpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -55,9 +56,15 @@ struct BasinMeasure {
   static constexpr int kMaxPeriodLimit = 8;  // CycleTracker::kMaxPeriod
 };
 
+// Synchronization of two degrees of freedom i, j of any scene (dof ≥ 2): phases
+// θ_k = atan2(−p_k/ω_k, q_k), their mean frequencies measured over the window. ω_k only scales
+// p_k so that a harmonic oscillation turns the phase uniformly; it defaults to 1, and to the
+// scene's own frequencies for coupled_oscillators.
 struct SyncMeasure {
   double window_from = 0.0;
   double window_to = 0.0;
+  int dof[2] = {0, 1};                    // 0-based here; 1-based in the spec (`dof = [1, 2]`)
+  std::optional<std::array<double, 2>> omega;
 };
 
 struct Measures {

@@ -813,9 +813,10 @@ class SpecReader {
   }
 
   void read_sync(const toml::table& measures) {
-    const toml::table* t = measure_settings(measures, "sync", {"window"});
+    const toml::table* t = measure_settings(measures, "sync", {"window", "dof", "omega"});
     if (t == nullptr) return;
     SyncMeasure sync{spec_.t_start + (spec_.t_end - spec_.t_start) / 2.0, spec_.t_end};
+    read_sync_pair(*t, sync);
     if (const toml::node* window = t->get("window")) {
       const std::string key = "measures.sync.window";
       const std::vector<double> ends = numbers(*window, key);
@@ -828,9 +829,34 @@ class SpecReader {
                                spec_.t_end));
       if (ends[1] - ends[0] < spec_.h)
         fail_value(*window, key, fmt::format("a window at least one step h = {} long", spec_.h));
-      sync = SyncMeasure{ends[0], ends[1]};
+      sync.window_from = ends[0], sync.window_to = ends[1];
     }
     spec_.measures.sync = sync;
+  }
+
+  // Which two degrees of freedom, and the frequencies that scale their momenta.
+  void read_sync_pair(const toml::table& t, SyncMeasure& sync) {
+    if (const toml::node* dof = t.get("dof")) {
+      const std::string key = "measures.sync.dof";
+      const toml::array& list = array(*dof, key);
+      const int n = scene_->dof;
+      if (list.size() != 2) fail_value(*dof, key, "two degrees of freedom [i, j], counted from 1");
+      for (std::size_t k = 0; k < 2; ++k) {
+        const std::int64_t i = integer(*list.get(k), fmt::format("{}[{}]", key, k));
+        if (i < 1 || i > n)
+          fail_value(*list.get(k), fmt::format("{}[{}]", key, k),
+                     fmt::format("a degree of freedom of scene '{}', from 1 to {}", scene_->name, n));
+        sync.dof[k] = static_cast<int>(i - 1);
+      }
+      if (sync.dof[0] == sync.dof[1]) fail_value(*dof, key, "two different degrees of freedom");
+    }
+    if (const toml::node* omega = t.get("omega")) {
+      const std::string key = "measures.sync.omega";
+      const std::vector<double> w = numbers(*omega, key);
+      if (w.size() != 2 || !(w[0] > 0.0) || !(w[1] > 0.0))
+        fail_value(*omega, key, "two frequencies > 0 [omega_i, omega_j] that scale p_i and p_j");
+      sync.omega = std::array<double, 2>{w[0], w[1]};
+    }
   }
 
   const toml::table& doc_;

@@ -253,9 +253,9 @@ class WellFinder {
     return gx <= 1e-8 * (1.0 + std::fabs(V(x)));
   }
 
-  // A grid of starts over the box: 64 for one q, 48² for two, fewer per axis as D grows.
+  // A grid of starts over the box: 64 for one q, 32² for two, fewer per axis as D grows.
   std::vector<Point> starts() const {
-    const int n = D == 1 ? 64 : D == 2 ? 48 : D == 3 ? 16 : 6;
+    const int n = D == 1 ? 64 : D == 2 ? 32 : D == 3 ? 12 : 6;
     std::vector<Point> out;
     std::array<int, D> index{};
     while (true) {

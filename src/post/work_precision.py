@@ -29,7 +29,9 @@ Writes DIR/*.h5, DIR/work_precision.json (every number below) and the charts
   DIR/workprecision_damped_oscillator.png, DIR/workprecision_double_well.png
       error against h (legend: nominal and observed order), against wall time per trajectory,
       against force evaluations; one line per method;
-  DIR/basin_accuracy.png   differing fraction of the basin map against its wall time, and against h.
+  DIR/basin_accuracy.png   differing fraction of the basin map against its wall time, and against h;
+  DIR/basin_accuracy_magnetic_pendulum.png   the same for sweeps/basins_magnetic_pendulum.toml
+      (128 x 128 cells, t_end = 200, reference contact_splitting6 at h = 0.0025).
 Prints tables of all numbers. --replot: only redraw the charts from DIR/work_precision.json.
 --quick: short timing runs without repeats, a 64 x 64 map at three step sizes with a coarser
 reference (about 30 s; for tests). The full run takes about 7 minutes.
@@ -334,44 +336,58 @@ def chart_trajectories(res, table, out):
 
 # --- basin maps -----------------------------------------------------------------------------------
 
-def basins(binary, methods, out, quick):
-    n = 64 if quick else 512  # the full map of the spec: big enough that launch is not all
-    hs = [0.2, 0.1, 0.05] if quick else [0.25, 0.2, 0.125, 0.1, 0.05, 0.025, 0.0125, 0.01]
-    h_ref = 0.005 if quick else 0.0025
+# The basin maps whose accuracy is charted: the double well (its exact trap) and the magnetic
+# pendulum (three attractors, fractal boundaries; K in the spec, its energy trap found at set-up).
+BASIN_CASES = {
+    "double_well": dict(spec=BASIN_SPEC, axes=("q_0", "p_0"), t_end=100.0,
+                        n=(64, 512), h_ref=(0.005, 0.0025),
+                        hs=([0.2, 0.1, 0.05], [0.25, 0.2, 0.125, 0.1, 0.05, 0.025, 0.0125, 0.01]),
+                        title="the damped double well", chart="basin_accuracy.png"),
+    "magnetic_pendulum": dict(spec=SWEEPS / "basins_magnetic_pendulum.toml", axes=("q1_0", "q2_0"),
+                              t_end=200.0, n=(24, 128), h_ref=(0.01, 0.0025),
+                              hs=([0.1, 0.05], [0.1, 0.05, 0.04, 0.025, 0.02, 0.01]),
+                              title="the magnetic pendulum",
+                              chart="basin_accuracy_magnetic_pendulum.png"),
+}
+
+
+def basins(binary, methods, out, quick, case="double_well"):
+    c = BASIN_CASES[case]
+    spec = c["spec"]
+    n, h_ref, hs = (c[k][0 if quick else 1] for k in ("n", "h_ref", "hs"))
     repeats = 1 if quick else 5
-    grid = [("grid.q_0.n", n), ("grid.p_0.n", n)]
+    grid = [(f"grid.{c['axes'][0]}.n", n), (f"grid.{c['axes'][1]}.n", n)]
     labels = {}
     for h in (h_ref, h_ref / 2):
-        path = out / f"basin_reference_h{h:g}.h5"
-        run(binary, BASIN_SPEC, path, grid + [method_set("contact_splitting6"), ("integrator.h", repr(h))])
+        path = out / f"basin_{case}_reference_h{h:g}.h5"
+        run(binary, spec, path, grid + [method_set("contact_splitting6"), ("integrator.h", repr(h))])
         labels[h] = load(path).basin.values
     ref = labels[h_ref]
     ref_diff = float((labels[h_ref] != labels[h_ref / 2]).mean())
     # One step: the launch (wall) and the program's set-up and write (its own time).
-    launch, setup = median_times(binary, BASIN_SPEC, out / "basin_launch.h5",
+    launch, setup = median_times(binary, spec, out / f"basin_{case}_launch.h5",
                                  grid + [("integrator.h", "0.25"), ("integrator.t_end", "0.25")], repeats)
-    res = {"n": n, "t_end": 100.0, "h_ref": h_ref, "ref_diff": ref_diff, "one_step_wall_s": launch,
-           "one_step_s": setup, "repeats": repeats,
-           "methods": {}}
+    res = {"case": case, "n": n, "t_end": c["t_end"], "h_ref": h_ref, "ref_diff": ref_diff,
+           "one_step_wall_s": launch, "one_step_s": setup, "repeats": repeats, "methods": {}}
     # Rounds over every (method, h) in turn, so a burst of load from other work on the machine
     # does not land on one method only; medians over the rounds.
     times = {(m, h): [] for m in methods for h in hs}
     for _ in range(repeats):
         for m in methods:
             for h in hs:
-                times[m, h].append(run_timed(binary, BASIN_SPEC, out / f"basin_{m}_h{h:g}.h5",
+                times[m, h].append(run_timed(binary, spec, out / f"basin_{case}_{m}_h{h:g}.h5",
                                              grid + [method_set(m), ("integrator.h", repr(h))]))
     for m in methods:
         rows = []
         for h in hs:
-            ds = load(out / f"basin_{m}_h{h:g}.h5")
+            ds = load(out / f"basin_{case}_{m}_h{h:g}.h5")
             t = np.array(times[m, h])
             rows.append({"h": h, "wall_s": float(np.median(t[:, 0])), "time_s": float(np.median(t[:, 1])),
                          "time_range_s": [float(t[:, 1].min()), float(t[:, 1].max())],
                          "differ": float((ds.basin.values != ref).mean()),
                          "failed": float((ds.status.values != 0).mean())})
         res["methods"][m] = rows
-    print(f"\nbasin map {n} x {n} (t_end = 100, early stop): fraction of cells whose basin differs "
+    print(f"\n{c['title']}: basin map {n} x {n} (t_end = {c['t_end']:g}, early stop): fraction of cells whose basin differs "
           f"from contact_splitting6 at h = {h_ref:g} (which itself differs from h = {h_ref / 2:g} "
           f"in {ref_diff:.2e} = {round(ref_diff * n * n)} cells). Time: the program's own time "
           f"(set-up, integrate, write; 1 thread, median of {repeats}); a one-step map takes "
@@ -409,9 +425,10 @@ def chart_basins(res, out):
     axes[0].set_xlabel("time to compute the map [s]: the program's own time, 1 thread "
                        "(dash-dot: a one-step map)")
     axes[1].set_xlabel("step size h")
-    fig.suptitle(f"Basin map of the damped double well, {res['n']} × {res['n']} cells, t = 100: "
+    c = BASIN_CASES[res.get("case", "double_well")]
+    fig.suptitle(f"Basin map of {c['title']}, {res['n']} × {res['n']} cells, t = {res['t_end']:g}: "
                  f"cells whose basin differs from contact_splitting6 at h = {res['h_ref']:g}")
-    path = out / "basin_accuracy.png"
+    path = out / c["chart"]
     save(fig, path)
     return path
 
@@ -429,6 +446,8 @@ def main():
         table = {m: (d["order"], d["evals_per_step"]) for m, d in res["methods"].items()}
         chart_trajectories(res["trajectories"], table, args.out)
         chart_basins(res["basins"], args.out)
+        if "basins_magnetic_pendulum" in res:
+            chart_basins(res["basins_magnetic_pendulum"], args.out)
         return 0
     start = time.perf_counter()
     table = methods_table(args.bin)
@@ -444,6 +463,9 @@ def main():
     chart_trajectories(res["trajectories"], table, args.out)
     res["basins"] = basins(args.bin, methods, args.out, args.quick)
     chart_basins(res["basins"], args.out)
+    res["basins_magnetic_pendulum"] = basins(args.bin, methods, args.out, args.quick,
+                                             "magnetic_pendulum")
+    chart_basins(res["basins_magnetic_pendulum"], args.out)
     res["runtime_s"] = time.perf_counter() - start
     with open(args.out / "work_precision.json", "w") as f:
         json.dump(res, f, indent=1, default=float, allow_nan=True)
