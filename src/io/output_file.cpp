@@ -516,6 +516,8 @@ struct OutputFile::Impl {
   void create_table(const FileLayout& layout, const TableSpec& table);
   void write_selected(hid_t dataset, hid_t mem_type, hid_t file_space, hid_t mem_space,
                       const void* data, const std::string& name) const;
+  void write_whole(hid_t dataset, hsize_t elements, hid_t mem_type, const void* data,
+                   const std::string& name, const std::string& what) const;
   std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
   const Dataset* find(const std::string& name) const;
   std::string request_problem(const std::string& name, const std::vector<PointRange>& ranges) const;
@@ -607,6 +609,20 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   }
 }
 
+// Writes a whole dataset of `elements` values that every rank holds: rank 0 alone writes them,
+// the others take part with nothing selected. Ranks differ here, so the selection is checked
+// locally and agreed once.
+void OutputFile::Impl::write_whole(hid_t dataset, hsize_t elements, hid_t mem_type,
+                                   const void* data, const std::string& name,
+                                   const std::string& what) const {
+  SpaceHandle file_space(checker(H5Dget_space(dataset), what));
+  SpaceHandle mem_space(checker(H5Screate_simple(1, &elements, nullptr), what));
+  const bool selected = (rank == 0 && elements > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
+                                                        H5Sselect_none(mem_space.get()) >= 0);
+  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
+  write_selected(dataset, mem_type, file_space.get(), mem_space.get(), data, name);
+}
+
 // A 1-D float64 dataset named as its dimension, made a dimension scale: this is what netCDF-4
 // (and so h5netcdf/xarray) reads as a dimension with a coordinate variable.
 DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordinate, int dim_id) {
@@ -616,15 +632,7 @@ DatasetHandle OutputFile::Impl::create_coordinate(const CoordinateSpec& coordina
   PropertyHandle dcpl = dataset_creation_properties({n}, ElementType::float64, std::nullopt);
   DatasetHandle dataset(checker(H5Dcreate2(file.get(), coordinate.name.c_str(), H5T_IEEE_F64LE,
                                          space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
-  // Every rank holds the same values; rank 0 alone writes them, the others take part empty.
-  SpaceHandle file_space(checker(H5Dget_space(dataset.get()), what));
-  SpaceHandle mem_space(checker(H5Screate_simple(1, &n, nullptr), what));
-  // Ranks differ here, so the selection is checked locally and agreed once.
-  const bool selected = (rank == 0 && n > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
-                                                 H5Sselect_none(mem_space.get()) >= 0);
-  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
-  write_selected(dataset.get(), H5T_NATIVE_DOUBLE, file_space.get(), mem_space.get(),
-                 coordinate.values.data(), coordinate.name);
+  write_whole(dataset.get(), n, H5T_NATIVE_DOUBLE, coordinate.values.data(), coordinate.name, what);
   checker(H5DSset_scale(dataset.get(), coordinate.name.c_str()), what);
   // netCDF-C numbers dimensions by this (h5netcdf hides it); harmless for other readers.
   SpaceHandle scalar(checker(H5Screate(H5S_SCALAR), what));
@@ -795,19 +803,12 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
   PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, spec.fill_value);
   DatasetHandle dataset(checker(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
                                            space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
-  // Rank 0 writes every value, the others take part with nothing selected.
-  SpaceHandle file_space(checker(H5Dget_space(dataset.get()), what));
-  SpaceHandle mem_space(checker(H5Screate_simple(1, &elements, nullptr), what));
-  const bool selected = (rank == 0 && elements > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
-                                                        H5Sselect_none(mem_space.get()) >= 0);
-  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
   std::vector<std::int8_t> i8(table.values.begin(), table.values.end());
   std::vector<std::uint8_t> u8(table.values.begin(), table.values.end());
   const void* data = spec.type == ElementType::int8    ? static_cast<const void*>(i8.data())
                      : spec.type == ElementType::uint8 ? static_cast<const void*>(u8.data())
                                                        : static_cast<const void*>(table.values.data());
-  write_selected(dataset.get(), memory_type(spec.type), file_space.get(), mem_space.get(), data,
-                 spec.name);
+  write_whole(dataset.get(), elements, memory_type(spec.type), data, spec.name, what);
   for (std::size_t d = 0; d < scales.size(); ++d)
     checker(H5DSattach_scale(dataset.get(), scales[d], static_cast<unsigned>(d)),
             what + ": cannot attach its dimension scale");

@@ -35,7 +35,7 @@ struct DatasetSpec {
   // Value of cells never written, as HDF5's fill value but without a _FillValue attribute, so
   // that readers keep an integer type (xarray turns masked integers into floats). For labels
   // whose type has no NaN: `status` fills with not_computed, never with 0 = ok.
-  std::optional<double> unwritten_value;
+  std::optional<double> unwritten_value = std::nullopt;
 };
 
 struct CoordinateSpec {

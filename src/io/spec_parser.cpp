@@ -815,7 +815,9 @@ class SpecReader {
   void read_sync(const toml::table& measures) {
     const toml::table* t = measure_settings(measures, "sync", {"window", "dof", "omega"});
     if (t == nullptr) return;
-    SyncMeasure sync{spec_.t_start + (spec_.t_end - spec_.t_start) / 2.0, spec_.t_end};
+    SyncMeasure sync;  // the second half of the run by default
+    sync.window_from = spec_.t_start + (spec_.t_end - spec_.t_start) / 2.0;
+    sync.window_to = spec_.t_end;
     read_sync_pair(*t, sync);
     if (const toml::node* window = t->get("window")) {
       const std::string key = "measures.sync.window";
