@@ -9,7 +9,8 @@ Each check runs real specs and compares with what theory says:
     (exact_trap = false) the same basins;
   * the magnetic pendulum: three attractors, at the minima of V (found here independently by
     Newton's method in numpy), with mirror-equal fractions; trap and on-line search agree;
-  * labels and table do not depend on ranks or threads (1x1, 1x2, 2x1, 3x1) on its fractal map;
+  * labels and table do not depend on ranks or threads (1x1, 1x2, 2x1, 3x1) on its fractal map
+    (gamma = 0.08, S_bb > ln 2);
   * a forced linear oscillator: one attractor on the stroboscopic map at its closed form (A, B*Omega),
     and a period-2 cycle {(A, B*Omega), (-A, -B*Omega)} when sampled every half period;
   * an undamped oscillator: nothing settles, every label is 0, the table is empty, exit 0.
@@ -168,13 +169,20 @@ if mp and mp_online:
           and abs(reference.S_bb - mp.attrs["boundary_basin_entropy"]) < 1e-12,
           f"{reference} vs {mp.attrs['basin_entropy']}, {mp.attrs['boundary_basin_entropy']}")
 
-# Same spec, same bits, for any ranks x threads, with the trap and with the on-line search.
-for mode, basin in (("trap", "{}"), ("online", "{ exact_trap = false }")):
+# Same spec, same bits, for any ranks x threads: with the trap on a fractal map (gamma = 0.08:
+# S_bb > ln 2, checked), and with the on-line search (gamma = 0.2, where lanes settle by t = 100).
+for mode, basin, gamma, t_end in (("trap", "{}", 0.08, 150), ("online", "{ exact_trap = false }", GAMMA, 100)):
     outputs = []
     for ranks, threads in ((1, 1), (1, 2), (2, 1), (3, 1)):
         name = f"mp_split_{mode}_np{ranks}_t{threads}"
-        if run(MP.format(t_end=100, n=60, basin=basin), name, ranks=ranks, threads=threads):
+        if run(MP.format(t_end=t_end, n=60, basin=basin), name, "--set", f"scene.gamma={gamma}",
+               ranks=ranks, threads=threads):
             outputs.append(os.path.join(work, name + ".h5"))
+    if mode == "trap" and outputs:
+        with h5py.File(outputs[0], "r") as f:
+            check("magnetic pendulum at gamma = 0.08: a fractal map (S_bb > ln 2), all decided",
+                  f.attrs["boundary_basin_entropy"] > math.log(2) and (f["basin"][...] != 0).all(),
+                  str(f.attrs["boundary_basin_entropy"]))
     result = subprocess.run([sys.executable, compare, *outputs], capture_output=True, text=True)
     check(f"magnetic pendulum ({mode}): 1x1, 1x2, 2x1, 3x1 give the same bits",
           len(outputs) == 4 and result.returncode == 0, result.stdout[-1500:] + result.stderr[-500:])
