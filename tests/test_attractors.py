@@ -17,6 +17,7 @@ Each check runs real specs and compares with what theory says:
 """
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -89,6 +90,16 @@ if builtin and as_k and online:
     same_time = np.isclose(as_k["settle_time"][...], builtin["settle_time"][...], rtol=0, atol=1e-12)
     check("double well as K: settle times equal the exact trap's (>= 99.9 % of cells)",
           same_time.mean() >= 0.999, f"{same_time.mean()}")
+    # The summary counts the steps integrated, not points x steps: the trap stops each lane at
+    # its settle time (a look, so a whole number of steps).
+    spec = os.path.join(work, "dw_builtin.toml")
+    line = subprocess.run([binary, "run", spec, "-o", os.path.join(work, "dw_again.h5"), "--force"],
+                          capture_output=True, text=True).stderr + "\n"
+    expected = np.rint(builtin["settle_time"][...] / 0.02).sum()
+    said = re.search(r"; ([0-9.e+]+) lane-steps integrated", line)
+    check("the summary reports the lane-steps integrated, as the settle times add up (3 digits)",
+          said is not None and abs(float(said.group(1)) / expected - 1) < 5e-3,
+          f"{line.strip()} vs {expected:.4g}")
     found = np.where(online["basin"][...] == 1, -1, np.where(online["basin"][...] == 2, 1, 0))
     check("double well: the on-line search (no trap) finds the same basins",
           (found == trap).all(), f"{(found != trap).sum()} cells differ")

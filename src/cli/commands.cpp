@@ -53,10 +53,19 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
           ? fmt::format("; {} points loaded from the journal, {} integrated",
                         s.points - s.computed_points, s.computed_points)
           : "";
-  log("contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s{}); "
+  // When lanes stop early the nominal rate overstates the work: say what was integrated.
+  const double nominal = static_cast<double>(s.computed_points) * static_cast<double>(spec.steps);
+  const std::string integrated =
+      static_cast<double>(s.lane_steps) < nominal
+          ? fmt::format("; {:.3g} lane-steps integrated ({:.0f} %, the rest stopped early), "
+                        "{:.3g}/s",
+                        static_cast<double>(s.lane_steps), 100.0 * static_cast<double>(s.lane_steps) / nominal,
+                        static_cast<double>(s.lane_steps) / s.seconds)
+          : "";
+  log("contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s{}{}); "
       "flagged: {} diverged, {} integrator breakdown",
-      options.output, s.points, spec.steps, s.seconds, rate, resumed, s.flagged_diverged,
-      s.flagged_breakdown);
+      options.output, s.points, spec.steps, s.seconds, rate, integrated, resumed,
+      s.flagged_diverged, s.flagged_breakdown);
   return 0;
 }
 

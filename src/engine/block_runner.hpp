@@ -518,6 +518,7 @@ class BlockRunner {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     auto k = b.point;
+    out_.lane_steps += b.n;
     column(map.status, k)[0] = static_cast<double>(status);
     double v[kMaxVars], H;
     state_values(x, c, v, H);

@@ -22,6 +22,7 @@ struct ColumnSpec {
 struct BlockResults {
   PointRange range;
   std::vector<std::vector<double>> columns;  // in the plan's column order
+  std::int64_t lane_steps = 0;  // steps its lanes were integrated (not journalled: 0 if loaded)
 
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;

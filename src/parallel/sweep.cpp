@@ -298,13 +298,16 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   if (c.rank == 0) remove_finished_journal(journal);
   if (basins && c.rank == 0 && !options.quiet) log("contactsweep: {}", describe(*basins));
 
-  std::int64_t counts[3] = {count_status(results, plan.map.status, LaneStatus::diverged),
+  std::int64_t lane_steps = 0;
+  for (const auto& r : results) lane_steps += r->lane_steps;
+  std::int64_t counts[4] = {count_status(results, plan.map.status, LaneStatus::diverged),
                             count_status(results, plan.map.status, LaneStatus::breakdown),
-                            computed.load()};
-  allreduce(comm, counts, 3, MPI_INT64_T, MPI_SUM);
+                            computed.load(), lane_steps};
+  allreduce(comm, counts, 4, MPI_INT64_T, MPI_SUM);
   summary.flagged_diverged = counts[0];
   summary.flagged_breakdown = counts[1];
   summary.computed_points = counts[2];
+  summary.lane_steps = counts[3];
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;
