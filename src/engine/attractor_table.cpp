@@ -1,9 +1,11 @@
 #include "engine/attractor_table.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -46,18 +48,44 @@ const double* point_of(const RunPlan& plan, const BlockResults& block, std::int6
   return block.columns[static_cast<std::size_t>(plan.map.basin_point)].data() + i * width;
 }
 
+// The double well's trap: the minimum (±a, 0) of the well a lane labelled ±1 fell into.
+class WellMinima {
+ public:
+  explicit WellMinima(const RunPlan& plan)
+      : plan_(plan),
+        params_(static_cast<std::size_t>(plan.grid.parameter_count())),
+        state_(static_cast<std::size_t>(plan.grid.variable_count())) {
+    while (plan.scene.parameters[a_].name != "a") ++a_;  // the double well's well position
+  }
+  std::array<double, 2> operator()(std::int64_t k, double label) {
+    plan_.grid.point(k, params_.data(), state_.data());
+    return {label * params_[a_], 0.0};
+  }
+
+ private:
+  const RunPlan& plan_;
+  std::vector<double> params_, state_;
+  std::size_t a_ = 0;
+};
+
 }  // namespace
 
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
   const int n = phase_space(plan);
   const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   std::vector<Attractor> found;
+  std::optional<WellMinima> well_minimum;
+  if (plan.basin_mode == BasinMode::trap) well_minimum.emplace(plan);
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     const double label = labels[static_cast<std::size_t>(i)];
     if (label == 0.0) continue;
+    if (well_minimum) {
+      const auto minimum = (*well_minimum)(block.range.begin + i, label);
+      add_sighting(plan, {minimum.data(), 1, static_cast<int>(label)}, found);
+      continue;
+    }
     const double* point = point_of(plan, block, i);
-    const int trap_label = plan.basin_mode == BasinMode::trap ? static_cast<int>(label) : 0;
-    add_sighting(plan, {point, static_cast<int>(point[n]), trap_label}, found);
+    add_sighting(plan, {point, static_cast<int>(point[n]), 0}, found);
   }
   std::vector<double> records;
   for (const Attractor& a : found) {

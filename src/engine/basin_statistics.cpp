@@ -1,6 +1,8 @@
 #include "engine/basin_statistics.hpp"
 
+#include <array>
 #include <cmath>
+#include <utility>
 #include <limits>
 #include <numeric>
 
@@ -25,14 +27,27 @@ struct Planes {
   }
 };
 
-double entropy(const std::map<int, int>& counts, int total) {
-  double s = 0.0;
-  for (const auto& [label, n] : counts) {
-    const double p = static_cast<double>(n) / total;
-    s -= p * std::log(p);
+// The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
+// cost ~10 ms on a 512² map).
+struct BoxCounts {
+  std::vector<std::pair<int, int>> counts;
+  void add(int label) {
+    for (auto& [l, n] : counts)
+      if (l == label) {
+        ++n;
+        return;
+      }
+    counts.emplace_back(label, 1);
   }
-  return s;
-}
+  double entropy(int total) const {
+    double s = 0.0;
+    for (const auto& [label, n] : counts) {
+      const double p = static_cast<double>(n) / total;
+      s -= p * std::log(p);
+    }
+    return s;
+  }
+};
 
 void box_entropies(const std::vector<std::int8_t>& labels, const Planes& g, int plane_axes,
                    BasinStatistics& out) {
@@ -42,13 +57,13 @@ void box_entropies(const std::vector<std::int8_t>& labels, const Planes& g, int 
   for (std::int64_t s = 0; s < g.slices; ++s)
     for (std::int64_t r0 = 0; r0 + box_rows <= g.rows; r0 += box_rows)
       for (std::int64_t c0 = 0; c0 + e <= g.columns; c0 += e) {
-        std::map<int, int> counts;
+        BoxCounts box;
         for (std::int64_t r = r0; r < r0 + box_rows; ++r)
-          for (std::int64_t c = c0; c < c0 + e; ++c) ++counts[labels[static_cast<std::size_t>(g.at(s, r, c))]];
-        const double box = entropy(counts, static_cast<int>(box_rows * e));
-        sum += box;
+          for (std::int64_t c = c0; c < c0 + e; ++c) box.add(labels[static_cast<std::size_t>(g.at(s, r, c))]);
+        const double entropy = box.entropy(static_cast<int>(box_rows * e));
+        sum += entropy;
         ++out.boxes;
-        if (counts.size() > 1) boundary_sum += box, ++out.boundary_boxes;
+        if (box.counts.size() > 1) boundary_sum += entropy, ++out.boundary_boxes;
       }
   out.basin_entropy = out.boxes > 0 ? sum / static_cast<double>(out.boxes) : kNaN;
   out.boundary_basin_entropy =
@@ -97,7 +112,11 @@ BasinStatistics basin_statistics(const std::vector<std::int8_t>& labels,
                                  const BasinMapShape& shape) {
   BasinStatistics out;
   out.points = static_cast<std::int64_t>(labels.size());
-  for (auto l : labels) ++out.cells[l];
+  std::array<std::int64_t, 256> per_label{};  // labels are int8
+  for (auto l : labels) ++per_label[static_cast<std::size_t>(l + 128)];
+  for (int l = -128; l < 128; ++l)
+    if (per_label[static_cast<std::size_t>(l + 128)] > 0)
+      out.cells[l] = per_label[static_cast<std::size_t>(l + 128)];
   if (shape.plane_axes == 0) {
     out.basin_entropy = out.boundary_basin_entropy = kNaN;
     out.uncertainty_exponent = out.boundary_dimension = kNaN;

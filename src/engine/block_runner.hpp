@@ -16,6 +16,7 @@
 #include <cstring>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <mutex>
 
 #include "engine/attractor_search.hpp"
@@ -48,7 +49,9 @@ class BlockRunner {
     bool settled = false;     // attractor found (BasinMode::found)
     int period = 0;           // of the cycle it settled on
     std::array<double, N> attractor{};
-    CycleTracker<N> cycle;    // stroboscopic samples (a forced scene's period)
+    // Its stroboscopic samples (a forced scene's period), kept beside the books: a tracker is
+    // ~1 KB, and copying it with every book made the double well's map 8 % slower.
+    CycleTracker<N>* cycle = nullptr;
     double settle_time = 0.0;
     std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
     SyncTracker sync;
@@ -72,6 +75,10 @@ class BlockRunner {
     const bool found = plan.basin_mode == BasinMode::found;
     strobe_ = found && m.basin->period.has_value();
     look_search_ = found && !strobe_;
+    if (strobe_) {
+      main_cycles_ = std::make_unique<CycleTracker<N>[]>(W);
+      fin_cycles_ = std::make_unique<CycleTracker<N>[]>(W);
+    }
     energy_search_ = found && has_energy_trap<S>() && m.basin->exact_trap;
     if (energy_search_) box_ = basin_box();
     for (int k = 0; k < N && found; ++k) {
@@ -180,6 +187,10 @@ class BlockRunner {
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
     b.point = k;
+    if (strobe_) {
+      main_cycles_[i] = CycleTracker<N>{};
+      b.cycle = &main_cycles_[i];
+    }
     if (Method::template breaks_down<S>(coef)) {
       observe(b, x, c);  // the initial state is sound; its first step is what breaks down
       finish(b, x, c, LaneStatus::breakdown);
@@ -395,6 +406,10 @@ class BlockRunner {
     fin_.set_parameters(j, main_.params(i), main_.coef(i));
     fin_.steps_done[j] = main_.steps_done[i];
     fin_book_[j] = main_book_[i];
+    if (strobe_) {
+      fin_cycles_[j] = main_cycles_[i];
+      fin_book_[j].cycle = &fin_cycles_[j];
+    }
     clear(main_, main_book_, i);
     --active_;
   }
@@ -432,11 +447,11 @@ class BlockRunner {
     if (strobe_ && !b.settled && b.n % plan_.attractors.sample_steps == 0) {
       typename CycleTracker<N>::Point point;
       for (int d = 0; d < D; ++d) point[d] = x.q[d], point[D + d] = x.p[d];
-      if (const int m = b.cycle.feed(point, plan_.attractors)) {
+      if (const int m = b.cycle->feed(point, plan_.attractors)) {
         b.settled = true;
         b.period = m;
-        b.attractor = b.cycle.representative(m, plan_.attractors);
-        b.settle_time = time_at(b.cycle.settled_start() * plan_.attractors.sample_steps);
+        b.attractor = b.cycle->representative(m, plan_.attractors);
+        b.settle_time = time_at(b.cycle->settled_start() * plan_.attractors.sample_steps);
       }
     }
     if (plan_.samples > 0) {
@@ -538,30 +553,29 @@ class BlockRunner {
         if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
       }
     }
-    if (map.basin >= 0) finish_basin(b, x, c, status);
+    if (map.basin >= 0) finish_basin(b, x, status);
     if (map.sync_r >= 0) finish_sync(b, status);
   }
 
   // The label is provisional here (1: settled) except for the trap's ±1: the attractor table,
   // built once every block is done (attractor_table.hpp), numbers the attractors.
-  void finish_basin(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
+  void finish_basin(const Book& b, const LaneState<D>& x, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const bool ok = status == LaneStatus::ok && decided(b);
-    double* point = column(map.basin_point, b.point);
-    for (int k = 0; k <= N; ++k) point[k] = nan;
     double label = 0.0;
     if (ok && b.trapped) {
       // With early stop the label is taken when the trap closes; integrated to t_end it is the
       // well the lane ends in. Both agree unless the margin were too small (tested).
       label = x.q[0] > 0.0 ? 1.0 : -1.0;
-      if constexpr (std::is_same_v<S, DoubleWell>) {
-        point[0] = label * c.a, point[1] = 0.0, point[N] = 1.0;  // the well's minimum
+    } else if (map.basin_point >= 0) {
+      double* point = column(map.basin_point, b.point);
+      for (int k = 0; k <= N; ++k) point[k] = nan;
+      if (ok) {
+        label = 1.0;
+        for (int k = 0; k < N; ++k) point[k] = b.attractor[static_cast<std::size_t>(k)];
+        point[N] = b.period;
       }
-    } else if (ok) {
-      label = 1.0;
-      for (int k = 0; k < N; ++k) point[k] = b.attractor[static_cast<std::size_t>(k)];
-      point[N] = b.period;
     }
     column(map.basin, b.point)[0] = label;
     column(map.settle_time, b.point)[0] = ok ? b.settle_time : nan;
@@ -589,6 +603,7 @@ class BlockRunner {
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
   bool basin_early_stop_ = true;
   bool strobe_ = false;       // attractors looked for on the stroboscopic map (Book::cycle)
+  std::unique_ptr<CycleTracker<N>[]> main_cycles_, fin_cycles_;  // per slot, when strobe_
   bool look_search_ = false;  // attractors looked for at every look (anchor_, near_)
   bool energy_search_ = false;  // the energy trap of K = T + V + k·z (energy_wells.hpp)
   BasinBox<D> box_{};

@@ -163,9 +163,12 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
                            std::nullopt});
   }
   const int phase_space = 2 * scene.dof;
-  map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
-                         std::nullopt},
-                        phase_space + 1, true);
+  // The trap's attractors are the wells' minima (±a, 0): known from a lane's label and a, so
+  // the trap keeps no point per lane (6 MB less to journal on the 512² map).
+  if (!trap)
+    map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
+                           std::nullopt},
+                          phase_space + 1, true);
   AttractorSearch& a = attractors;
   a.tolerance = basin.tolerance;
   a.max_period = basin.max_period;
