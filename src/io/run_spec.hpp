@@ -44,7 +44,6 @@ struct TrajectoryMeasure {
 struct BasinMeasure {
   bool early_stop = true;
   std::optional<double> period;          // the forcing period (stroboscopic map); none: looks
-  std::int64_t period_steps = 0;         // period / h (whole, checked); 0 without a period
   double tolerance = 1e-3;
   double dwell = 0.0;                    // time units; filled in from the defaults below
   int max_period = 1;                    // longest cycle of the stroboscopic map looked for

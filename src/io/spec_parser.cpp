@@ -807,7 +807,6 @@ class SpecReader {
         fail(&node, fmt::format("{} = {}: the stroboscopic map needs a whole number of steps per "
                                 "period, but period / h = {:.12g} at h = {}; choose h = period / N",
                                 key, period, ratio, h));
-      basin.period_steps = steps;  // one per h: the plan of each step size recomputes it
     }
     basin.period = period;
   }
