@@ -168,6 +168,7 @@ class BlockRunner {
   }
 
   void refill() {
+    if (active_ == W) return;  // the common case; scanning 64 books a chunk cost 6 % of a map
     for (int i = 0; i < W && next_ < out_.range.end; ++i) {
       if (main_book_[i].point >= 0) continue;
       while (next_ < out_.range.end && !load(i, next_++)) {
@@ -230,7 +231,8 @@ class BlockRunner {
     Tile& t = main_;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
-      int healthy = t.broken[i] <= 0.0;
+      int healthy = 1;
+      if constexpr (!S::kz_constant) healthy = t.broken[i] <= 0.0;  // else never set
       for (int d = 0; d < D; ++d)
         healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       int trapped = 0;
@@ -240,7 +242,7 @@ class BlockRunner {
       }
       countdown_[i] -= 1;
       steps_done_[i] += plan_.chunk;
-      t.steps_done[i] += plan_.chunk;
+      if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
       attention_[i] = (!healthy) | trapped | (countdown_[i] <= 0);
     }
     if (look_search_) search_on_looks();

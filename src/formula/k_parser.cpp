@@ -23,7 +23,10 @@ constexpr std::array<std::string_view, 13> kFunctionNames = {
 
 std::string function_list() {
   std::string s;
-  for (auto f : kFunctionNames) s += (s.empty() ? "" : " ") + std::string(f);
+  for (auto f : kFunctionNames) {
+    if (!s.empty()) s += ' ';
+    s += f;
+  }
   return s;
 }
 

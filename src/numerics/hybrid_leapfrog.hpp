@@ -76,6 +76,7 @@ struct HybridLeapfrog {
   template <Scene S, Carry carry, class T>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
                                                         const ParamsOf<S, T>& c, const Coef<T>& k) {
+    using lane_math::mul_add;  // x + h·f as one rounding (lane_math.hpp)
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
     const T hh = k.half_h;
@@ -87,26 +88,29 @@ struct HybridLeapfrog {
     if constexpr (S::kz_constant) {
       inv_a = k.inv_a;
     } else {
-      a = 1.0 - hh * K_z<S>(x.q, x.p, x.z, c, t0);
+      a = mul_add(-hh, K_z<S>(x.q, x.p, x.z, c, t0), 1.0);
       inv_a = 1.0 / a;
     }
 
     T p_half[D], q_half[D];
-    for (int i = 0; i < D; ++i) p_half[i] = inv_a * (x.p[i] - hh * x.kq[i]);
+    for (int i = 0; i < D; ++i) p_half[i] = inv_a * mul_add(-hh, x.kq[i], x.p[i]);
     T z_half = x.z;
-    if constexpr (with_z) z_half = x.z + hh * z_rate<S>(x.q, x.p, x.z, c, t0);
-    for_each_dof<D>([&](auto i) { q_half[i] = x.q[i] + hh * K_p<S, i>(x.q, x.p, x.z, c, t0); });
+    if constexpr (with_z) z_half = mul_add(hh, z_rate<S>(x.q, x.p, x.z, c, t0), x.z);
+    for_each_dof<D>([&](auto i) {
+      q_half[i] = mul_add(hh, K_p<S, i>(x.q, x.p, x.z, c, t0), x.q[i]);
+    });
 
-    if constexpr (with_z) x.z = x.z + k.h * z_rate<S>(q_half, p_half, z_half, c, t_half);
-    for_each_dof<D>(
-        [&](auto i) { x.q[i] = x.q[i] + k.h * K_p<S, i>(q_half, p_half, z_half, c, t_half); });
+    if constexpr (with_z) x.z = mul_add(k.h, z_rate<S>(q_half, p_half, z_half, c, t_half), x.z);
+    for_each_dof<D>([&](auto i) {
+      x.q[i] = mul_add(k.h, K_p<S, i>(q_half, p_half, z_half, c, t_half), x.q[i]);
+    });
 
     // End forces K_q^{n+1}, K_z^{n+1}, and p^{n+1} = b·p^{n+½} − h/2·K_q^{n+1}.
     T b = k.b;
     auto end_forces_at = [&](const T* p) {
-      if constexpr (!S::kz_constant) b = 1.0 + hh * K_z<S>(x.q, p, x.z, c, t1);
+      if constexpr (!S::kz_constant) b = mul_add(hh, K_z<S>(x.q, p, x.z, c, t1), 1.0);
       for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p, x.z, c, t1); });
-      for (int i = 0; i < D; ++i) x.p[i] = b * p_half[i] - hh * x.kq[i];
+      for (int i = 0; i < D; ++i) x.p[i] = mul_add(-hh, x.kq[i], b * p_half[i]);
     };
     end_forces_at(p_half);
     if constexpr (p_in_forces<S>()) {
@@ -136,7 +140,8 @@ struct HybridLeapfrog {
   template <Scene S, class T>
   static T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
     T r = K<S>(q, p, z, c, t);
-    for_each_dof<S::dof>([&](auto i) { r = r - p[i] * K_p<S, i>(q, p, z, c, t); });
+    for_each_dof<S::dof>(
+        [&](auto i) { r = lane_math::mul_add(-p[i], K_p<S, i>(q, p, z, c, t), r); });
     return r;
   }
 };
