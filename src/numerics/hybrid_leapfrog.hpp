@@ -134,16 +134,6 @@ struct HybridLeapfrog {
       }
     }
   }
-
- private:
-  // dz/dt = K − Σ p_i K_{p_i}
-  template <Scene S, class T>
-  static T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
-    T r = K<S>(q, p, z, c, t);
-    for_each_dof<S::dof>(
-        [&](auto i) { r = lane_math::mul_add(-p[i], K_p<S, i>(q, p, z, c, t), r); });
-    return r;
-  }
 };
 
 }  // namespace cs

@@ -54,7 +54,7 @@ struct Rk4 {
     const P k4 = rate<S, with_z, with_mu>(axpy<with_z, with_mu>(x0, k.h, k3), c, t1);
     // y + h/6·(r1 + 2r2 + 2r3 + r4)
     auto combine = [&](T y, T r1, T r2, T r3, T r4) {
-      return y + k.sixth_h * ((r1 + r4) + 2.0 * (r2 + r3));
+      return lane_math::mul_add(k.sixth_h, lane_math::mul_add(2.0, r2 + r3, r1 + r4), y);
     };
     for (int i = 0; i < D; ++i) {
       x.q[i] = combine(x.q[i], k1.q[i], k2.q[i], k3.q[i], k4.q[i]);
@@ -78,13 +78,17 @@ struct Rk4 {
     }
   };
 
-  // y + a·r
+  // y + a·r, fused
   template <bool with_z, bool with_mu, int D, class T>
   [[gnu::always_inline]] static Point<D, T> axpy(const Point<D, T>& y, T a, const Point<D, T>& r) {
+    using lane_math::mul_add;
     Point<D, T> out;
-    for (int i = 0; i < D; ++i) out.q[i] = y.q[i] + a * r.q[i], out.p[i] = y.p[i] + a * r.p[i];
-    out.z = with_z ? y.z + a * r.z : y.z;
-    out.mu = with_mu ? y.mu + a * r.mu : y.mu;
+    for (int i = 0; i < D; ++i) {
+      out.q[i] = mul_add(a, r.q[i], y.q[i]);
+      out.p[i] = mul_add(a, r.p[i], y.p[i]);
+    }
+    out.z = with_z ? mul_add(a, r.z, y.z) : y.z;
+    out.mu = with_mu ? mul_add(a, r.mu, y.mu) : y.mu;
     return out;
   }
 
@@ -98,8 +102,8 @@ struct Rk4 {
     for_each_dof<S::dof>([&](auto i) {
       T kp = K_p<S, i>(y.q, y.p, y.z, c, t);
       r.q[i] = kp;
-      r.p[i] = y.p[i] * kz - K_q<S, i>(y.q, y.p, y.z, c, t);
-      if constexpr (with_z) z_rate = z_rate - y.p[i] * kp;
+      r.p[i] = lane_math::mul_add(y.p[i], kz, -K_q<S, i>(y.q, y.p, y.z, c, t));
+      if constexpr (with_z) z_rate = lane_math::mul_add(-y.p[i], kp, z_rate);
     });
     r.z = z_rate;
     r.mu = -kz;

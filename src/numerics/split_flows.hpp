@@ -74,16 +74,16 @@ inline T z_coefficient(const ParamsOf<S, T>& c, T t) {
 template <bool with_z, int D, class T>
 inline void kinetic_flow(LaneState<D, T>& x, T t) {
   for (int i = 0; i < D; ++i) {
-    if constexpr (with_z) x.z = x.z - t * half_square(x.p[i]);
-    x.q[i] = x.q[i] + t * x.p[i];
+    if constexpr (with_z) x.z = lane_math::mul_add(-t, half_square(x.p[i]), x.z);
+    x.q[i] = lane_math::mul_add(t, x.p[i], x.q[i]);
   }
 }
 
 // `force` and `v` are V′ and V at the current q (a kick leaves q alone, so they stay valid).
 template <bool with_z, int D, class T>
 inline void potential_flow(LaneState<D, T>& x, T t, const T* force, T v) {
-  for (int i = 0; i < D; ++i) x.p[i] = x.p[i] - t * force[i];
-  if constexpr (with_z) x.z = x.z + t * v;
+  for (int i = 0; i < D; ++i) x.p[i] = lane_math::mul_add(-t, force[i], x.p[i]);
+  if constexpr (with_z) x.z = lane_math::mul_add(t, v, x.z);
 }
 
 // Z = k·z for time t, given decay = e^{kt}; ln λ is advanced once per step by the caller.

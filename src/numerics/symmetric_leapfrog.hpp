@@ -89,6 +89,7 @@ struct SymmetricLeapfrog {
   template <Scene S, Carry carry, class T>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
                                                         const ParamsOf<S, T>& c, const Coef<T>& k) {
+    using lane_math::mul_add;  // p − h/2·K_q, q + h·K_p as one rounding (lane_math.hpp)
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
     const T hh = k.half_h;
@@ -101,27 +102,28 @@ struct SymmetricLeapfrog {
     for (int pass = 0; pass < kick_passes; ++pass) {
       if constexpr (p_in_forces<S>())
         for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c, t0); });
-      a = S::kz_constant ? k.a : 1.0 + hh * K_z<S>(x.q, p_half, x.z, c, t0);
-      for (int i = 0; i < D; ++i) p_half[i] = a * x.p[i] - hh * x.kq[i];
+      a = S::kz_constant ? k.a : mul_add(hh, K_z<S>(x.q, p_half, x.z, c, t0), 1.0);
+      for (int i = 0; i < D; ++i) p_half[i] = mul_add(-hh, x.kq[i], a * x.p[i]);
     }
 
     // Drift of the positions (q, z): trapezoid, solved from an Euler predictor.
     T kp0[D], q1[D];
     for_each_dof<D>([&](auto i) { kp0[i] = K_p<S, i>(x.q, p_half, x.z, c, t0); });
-    for (int i = 0; i < D; ++i) q1[i] = x.q[i] + k.h * kp0[i];
+    for (int i = 0; i < D; ++i) q1[i] = mul_add(k.h, kp0[i], x.q[i]);
     T z1 = x.z, r0{};
     if constexpr (with_z) {
       r0 = z_rate<S>(x.q, p_half, x.z, c, t0);
-      z1 = x.z + k.h * r0;
+      z1 = mul_add(k.h, r0, x.z);
     }
     for (int it = 0; it < implicit_iterations<S>(); ++it) {
       T q_next[D];
-      for_each_dof<D>(
-          [&](auto i) { q_next[i] = x.q[i] + hh * (kp0[i] + K_p<S, i>(q1, p_half, z1, c, t1)); });
+      for_each_dof<D>([&](auto i) {
+        q_next[i] = mul_add(hh, kp0[i] + K_p<S, i>(q1, p_half, z1, c, t1), x.q[i]);
+      });
       for (int i = 0; i < D; ++i) q1[i] = q_next[i];
       if constexpr (with_z) {
-        T g = z1 - x.z - hh * (r0 + z_rate<S>(q1, p_half, z1, c, t1));
-        T slope = 1.0 - hh * K_z<S>(q1, p_half, z1, c, t1);
+        T g = mul_add(-hh, r0 + z_rate<S>(q1, p_half, z1, c, t1), z1 - x.z);
+        T slope = mul_add(-hh, K_z<S>(q1, p_half, z1, c, t1), 1.0);
         z1 = z1 - g / slope;
       }
     }
@@ -134,22 +136,13 @@ struct SymmetricLeapfrog {
       inv_b = k.inv_b;
       if constexpr (carry.mu) x.mu = x.mu + k.dmu;
     } else {
-      T b = 1.0 - hh * K_z<S>(x.q, p_half, x.z, c, t1);
+      T b = mul_add(-hh, K_z<S>(x.q, p_half, x.z, c, t1), 1.0);
       x.broken += (a <= 0.0) + (b <= 0.0);
       inv_b = 1.0 / b;
       if constexpr (carry.mu) x.mu = x.mu + lane_math::log(b / a);
     }
     for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p_half, x.z, c, t1); });
-    for (int i = 0; i < D; ++i) x.p[i] = (p_half[i] - hh * x.kq[i]) * inv_b;
-  }
-
- private:
-  // dz/dt = K − Σ p_i K_{p_i}
-  template <Scene S, class T>
-  static T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
-    T r = K<S>(q, p, z, c, t);
-    for_each_dof<S::dof>([&](auto i) { r = r - p[i] * K_p<S, i>(q, p, z, c, t); });
-    return r;
+    for (int i = 0; i < D; ++i) x.p[i] = mul_add(-hh, x.kq[i], p_half[i]) * inv_b;
   }
 };
 
