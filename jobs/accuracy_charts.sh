@@ -32,5 +32,6 @@ mkdir -p out/stability out/work_precision "$figures"
 
 cp out/stability/stability_h_gamma.png out/stability/stability_h_q0.png \
    out/work_precision/workprecision_damped_oscillator.png out/work_precision/workprecision_double_well.png \
-   out/work_precision/basin_accuracy.png "$figures"/
+   out/work_precision/basin_accuracy.png out/work_precision/basin_accuracy_magnetic_pendulum.png \
+   "$figures"/
 echo "charts copied to $figures/"
