@@ -13,6 +13,7 @@
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
+#include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"
 #include "support/format_number.hpp"
 #include "support/p_dependent_forces.hpp"
@@ -64,6 +65,40 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   EXPECT_NEAR(x.z, z1, 1e-15);
   EXPECT_NEAR(log_lambda<Z2Damping>(x), std::log(lambda1), 1e-15);
   EXPECT_EQ(x.broken, 0.0);
+}
+
+// The decision of README "Benchmarks" (FMA): each update x + h·f, p − h/2·K_q is rounded once.
+// One step of the double well, q and p only, written out with std::fma, is the step's bits on
+// every state; unfused, the same formulas differ in the last bit on 6 % of these states, so
+// the test tells the two apart.
+TEST(HybridLeapfrog, UpdatesAreRoundedOnceAsFusedMultiplyAdds) {
+  const double a = 1.0, gamma = 0.1, h = 0.01, hh = 0.5 * h;
+  const ParamsOf<DoubleWell, double> c{a, gamma};
+  auto kq = [&](double q) { return (q * q - a * a) * (q + q); };  // K_q as the dual numbers form it
+  const double inv_a = 1.0 / (1.0 - hh * -gamma), b = 1.0 + hh * -gamma;
+  int differ_unfused = 0, states = 0;
+  for (double q0 = -2.95; q0 < 3.0; q0 += 0.1) {
+    for (double p0 = -2.95; p0 < 3.0; p0 += 0.1) {
+      const double p_half = inv_a * std::fma(-hh, kq(q0), p0);
+      const double q1 = std::fma(h, p_half, q0);
+      const double p1 = std::fma(-hh, kq(q1), b * p_half);
+      const double p_half_unfused = inv_a * (p0 - hh * kq(q0));
+      const double q1_unfused = q0 + h * p_half_unfused;
+      const double p1_unfused = b * p_half_unfused - hh * kq(q1_unfused);
+
+      LaneState<1> x{};
+      x.q[0] = q0, x.p[0] = p0;
+      HybridLeapfrog::start<DoubleWell>(x, c);
+      const auto k = HybridLeapfrog::coefficients<DoubleWell>(h, c, x);
+      HybridLeapfrog::step<DoubleWell, Carry{false, false}>(x, c, k);
+      using bits = std::uint64_t;
+      ASSERT_EQ(std::bit_cast<bits>(x.q[0]), std::bit_cast<bits>(q1)) << q0 << ", " << p0;
+      ASSERT_EQ(std::bit_cast<bits>(x.p[0]), std::bit_cast<bits>(p1)) << q0 << ", " << p0;
+      differ_unfused += (q1 != q1_unfused) || (p1 != p1_unfused);
+      ++states;
+    }
+  }
+  EXPECT_GT(differ_unfused, states / 50) << "of " << states;  // 221 of 3600 (6 %) today
 }
 
 // Its order (2.00 in q, p, z and ln λ on the exact scene A) is checked with every other
