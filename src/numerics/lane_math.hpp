@@ -50,7 +50,8 @@ namespace cs::lane_math {
 // a·b + c rounded once (std::fma: exact by definition, so the same bits scalar or vectorised,
 // on any CPU; one vfmadd where the build has FMA). The integrators write their updates
 // x + h·f and p − h·K_q with it: fewer operations on the kernel's busiest pipes, one rounding
-// less (README, "Floating point"). Contraction stays off, so nothing else is ever fused.
+// less (README, Benchmarks: "FMA, a decision"). Contraction stays off, so nothing else is
+// ever fused.
 [[gnu::always_inline]] inline double mul_add(double a, double b, double c) {
   return std::fma(a, b, c);
 }

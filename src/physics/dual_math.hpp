@@ -15,7 +15,7 @@ namespace cs {
 // the reciprocal 1/b instead of dividing: it depends on the value alone, so the compiler computes
 // it once for every partial (K_q1, K_q2, ... evaluate K once per seed) and for 1/b itself, and a
 // division costs 8-16 multiplications' time. The magnetic pendulum's force went from 15 divisions
-// to 3 (45 to 16 ns a lane-step, README "Benchmarks"); the derivative is rounded twice (~1 ulp).
+// to 3 (45 to 21 ns a lane-step, README "Benchmarks"); the derivative is rounded twice (~1 ulp).
 template <class T>
 constexpr Dual<T> operator/(Dual<T> a, Dual<T> b) {
   const T v = a.v / b.v, inverse = 1.0 / b.v;

@@ -1,6 +1,6 @@
-// The kernel benchmark: nanoseconds per lane-step of each scene × method × carried state on each
+// The kernel benchmark: lane-steps per second of each scene × method × carried state on each
 // ISA path this CPU can run, and the fraction of the FMA roofline it reaches, against an FMA peak
-// measured here at start-up. One core (the kernel is per-core work; ranks and threads multiply).
+// measured right before each run. One core (the kernel is per-core work; ranks and threads multiply).
 //
 //   build/tests/bench/kernel_bench [--benchmark_filter=double_well] [--benchmark_repetitions=5]
 //

@@ -24,7 +24,7 @@ struct KernelCase {
   std::string scene, method, state;  // state: "qp" (q, p only) or "full" (q, p, z, ln λ)
   int width;                         // lanes per tile
   // Floating-point operations per lane-step that occupy the FMA pipes (add, sub, mul, fma, min,
-  // max: one each), counted in the compiled step loop (README, "Kernel roofline"); 0 = not counted.
+  // max: one each), counted in the compiled step loop (README, "Benchmarks"); 0 = not counted.
   double fma_pipe_ops;
   std::function<std::unique_ptr<KernelInstance>()> make;
 };

@@ -47,10 +47,10 @@ std::vector<KernelCase> all_cases() {
   // The runs of sweeps/: basins_double_well (t = 100, h = 0.01), sync_g_gamma, and the K
   // showcases, with the parameters written there. FMA-pipe operations per lane-step (the third
   // argument, 0 = not counted) are read off the compiled step loop of the AVX-512 path with
-  // objdump (README, "Kernel roofline"): the double well's q, p step is 2 fused + 4 multiplies +
-  // 1 add + 1 subtract + ... = 9 (p − h/2·K_q fused, ·1/a; q + h·p fused; K_q = (q² − a²)·(q + q);
-  // b·p½ and − h/2·K_q fused); the full state adds z and its K − pK_p at two points (31); the
-  // coupled oscillators' two degrees of freedom and their coupling make 24.
+  // objdump (README, "Benchmarks"): the double well's q, p step is 3 fused + 4 multiplies + 1 add
+  // + 1 subtract = 9 (p − h/2·K_q fused, ·1/a; q + h·p fused; K_q = (q·q − a²)·(q + q);
+  // b·p½, then − h/2·K_q fused); the full state adds z and its K − pK_p at two points and ln λ
+  // (32); the coupled oscillators' two degrees of freedom and their coupling make 24.
   const DoubleWell::Params<double> well{1.0, 0.1};
   const CoupledOscillators::Params<double> coupled{1.2, 0.8, 0.5, 0.1};
   const KDoubleWell::Params<double> k_well{1.0, 0.1};  // a, gamma
