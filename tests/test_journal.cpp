@@ -5,10 +5,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "io/run_spec.hpp"
 #include "parallel/journal.hpp"
+#include "parallel/journal_writer.hpp"
 #include "parallel/run_identity.hpp"
 
 namespace cs {
@@ -57,6 +61,74 @@ TEST_F(JournalTest, SavedBlockComesBackBitForBit) {
   BlockResults loaded({10, 20}, columns());
   ASSERT_TRUE(journal.load(loaded));
   EXPECT_EQ(loaded.columns, saved.columns);
+}
+
+// The writer saves from its own thread what many threads hand it: every block comes back bit
+// for bit, and on_saved counts 1, 2, ... n, each after that many blocks are in place.
+TEST_F(JournalTest, WriterSavesEveryBlockHandedToItFromManyThreads) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  constexpr int kThreads = 4, kPerThread = 6, kBlocks = kThreads * kPerThread;
+  std::vector<std::unique_ptr<BlockResults>> blocks;
+  for (int b = 0; b < kBlocks; ++b)
+    blocks.push_back(std::make_unique<BlockResults>(block(10 * b, 10 * b + 10, 0.5 * b)));
+  std::vector<std::int64_t> reported;
+  std::vector<std::int64_t> files_when_reported;
+  int failures = 0;
+  {
+    JournalWriter writer(
+        journal,
+        [&](std::int64_t n) {
+          reported.push_back(n);
+          std::int64_t files = 0;
+          for (const auto& entry : fs::directory_iterator(journal.directory()))
+            files += entry.path().extension() == ".bin";
+          files_when_reported.push_back(files);
+        },
+        [&] { ++failures; });
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t)
+      threads.emplace_back([&, t] {
+        for (int k = 0; k < kPerThread; ++k) writer.submit(*blocks[t * kPerThread + k]);
+      });
+    for (auto& thread : threads) thread.join();
+    writer.finish();
+  }
+  ASSERT_EQ(reported.size(), static_cast<std::size_t>(kBlocks));
+  for (int n = 1; n <= kBlocks; ++n) {
+    EXPECT_EQ(reported[n - 1], n);
+    EXPECT_EQ(files_when_reported[n - 1], n) << "block " << n << " reported before it was in place";
+  }
+  EXPECT_EQ(failures, 0);
+  for (const auto& saved : blocks) {
+    BlockResults loaded(saved->range, columns());
+    ASSERT_TRUE(journal.load(loaded));
+    EXPECT_EQ(loaded.columns, saved->columns);
+  }
+}
+
+// A failed save is reported once, saves nothing after it, never blocks a submitting thread, and
+// finish() rethrows it with the reason.
+TEST_F(JournalTest, WriterFailureIsReportedOnceAndRethrown) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  fs::remove_all(journal.directory());  // every save now fails: no directory to write in
+  std::vector<std::unique_ptr<BlockResults>> blocks;
+  for (int b = 0; b < 12; ++b)
+    blocks.push_back(std::make_unique<BlockResults>(block(10 * b, 10 * b + 10, 1.0)));
+  int saved = 0, failures = 0;
+  JournalWriter writer(journal, [&](std::int64_t) { ++saved; }, [&] { ++failures; });
+  for (const auto& b : blocks) writer.submit(*b);  // more than the queue holds: must not hang
+  try {
+    writer.finish();
+    ADD_FAILURE() << "finish() did not rethrow the failed save";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot create"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(saved, 0);
+  EXPECT_EQ(failures, 1);
 }
 
 TEST_F(JournalTest, BlockOfAnotherRunIsNeverLoaded) {

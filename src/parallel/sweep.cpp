@@ -28,6 +28,7 @@
 #include "parallel/comm.hpp"
 #include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
+#include "parallel/journal_writer.hpp"
 #include "parallel/output_assembly.hpp"
 #include "parallel/progress.hpp"
 #include "parallel/run_start.hpp"
@@ -255,9 +256,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
                             !options.quiet && c.rank == 0);
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
-  std::atomic<std::int64_t> saved{0}, computed{0};
+  std::atomic<std::int64_t> computed{0};
   std::exception_ptr failure;
   FailureWatch watch(comm);
+  // Declared after `results`: destroyed first, so it never saves a block that is gone.
+  JournalWriter journal_writer(
+      journal, [&](std::int64_t saved) { test_kill_point("block", c.rank, saved); },
+      [&] { watch.report_failure(); });  // no thread of any rank starts another block
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!watch.stop()) {
@@ -267,9 +272,8 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         const bool loaded = decision.start == Start::resume && journal.load(*results[i]);
         if (!loaded) {
           run_block(*blocks[i].plan, *results[i]);
-          journal.save(*results[i]);
+          journal_writer.submit(*results[i]);
           computed += n;
-          test_kill_point("block", c.rank, ++saved);
         }
         progress.add(n, !loaded);
       } catch (...) {
@@ -279,6 +283,12 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       }
     }
     if (omp_get_thread_num() == 0) watch.poll();
+  }
+  try {
+    journal_writer.finish();  // every computed block in place before the output is written
+  } catch (...) {
+    if (!failure) failure = std::current_exception();
+    watch.report_failure();
   }
   watch.finish();
   throw_if_any_failed(comm, failure);

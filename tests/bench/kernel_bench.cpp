@@ -4,8 +4,9 @@
 //
 //   build/tests/bench/kernel_bench [--benchmark_filter=double_well] [--benchmark_repetitions=5]
 //
-// Counters: lane_steps/s; roofline = lane_steps/s × FMA-pipe ops per lane-step ÷ the path's peak
-// (FMA-pipe ops per second per core, a vector FMA counted once per lane) measured just before.
+// Counters: lane_steps/s; roofline = lane_steps/s × floating-point ops per lane-step ÷ the path's
+// peak (FMAs per second per core, a vector FMA counted once per lane) measured just before, and
+// roofline_fma_units the same with multiplies and FMAs alone (kernel_instance.hpp, StepOps).
 // jobs/bench_kernel.sh runs it with repetitions and prints the medians as a table.
 #include <benchmark/benchmark.h>
 
@@ -43,9 +44,12 @@ void run_case(benchmark::State& state, const KernelCase& c, double (*fma_peak)(d
   using benchmark::Counter;
   state.counters["lane_steps/s"] = Counter(lane_steps, Counter::kIsIterationInvariantRate);
   state.counters["peak"] = peak;
-  if (c.fma_pipe_ops > 0)
+  if (c.ops.counted()) {
     state.counters["roofline"] =
-        Counter(lane_steps * c.fma_pipe_ops / peak, Counter::kIsIterationInvariantRate);
+        Counter(lane_steps * c.ops.all() / peak, Counter::kIsIterationInvariantRate);
+    state.counters["roofline_fma_units"] =
+        Counter(lane_steps * c.ops.fma_unit / peak, Counter::kIsIterationInvariantRate);
+  }
 }
 
 void peak_run(benchmark::State& state, double (*fma_peak)(double)) {

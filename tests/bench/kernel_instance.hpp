@@ -20,12 +20,22 @@ class KernelInstance {
   virtual double checksum() const = 0;  // keeps the results observable
 };
 
+// Floating-point operations per lane-step in the compiled step loop, counted with objdump (README,
+// "The kernel against its roofline"), by the units that can run them. Multiplies and FMAs need an
+// FMA unit on every CPU; adds and subtracts share those units on Intel's 512-bit path but have
+// pipes of their own on AMD Zen 4 and 5. So all ops against the FMA peak is the roofline where
+// adds share (the model), and the multiplies and FMAs alone the roofline where they do not.
+struct StepOps {
+  double fma_unit = 0;  // mul, fma
+  double add = 0;       // add, sub
+  double all() const { return fma_unit + add; }
+  bool counted() const { return all() > 0; }
+};
+
 struct KernelCase {
   std::string scene, method, state;  // state: "qp" (q, p only) or "full" (q, p, z, ln λ)
   int width;                         // lanes per tile
-  // Floating-point operations per lane-step that occupy the FMA pipes (add, sub, mul, fma, min,
-  // max: one each), counted in the compiled step loop (README, "Benchmarks"); 0 = not counted.
-  double fma_pipe_ops;
+  StepOps ops;                       // {} = not counted
   std::function<std::unique_ptr<KernelInstance>()> make;
 };
 

@@ -32,10 +32,11 @@ namespace cs::bench::CS_BENCH_ISA {
 namespace {
 
 constexpr Carry kQp{false, false}, kFull{true, true};
+constexpr StepOps kWellQpOps{7, 2}, kWellFullOps{23.5, 8.5}, kCoupledOps{20, 4}, kNotCounted{};
 constexpr int kChunk = 32;  // the block runner's chunk for these runs (engine/run_plan.cpp)
 
 template <Scene S, class Method, Carry carry, int W = 64>
-KernelCase make(const char* scene, const char* method, double ops, ParamsOf<S, double> c,
+KernelCase make(const char* scene, const char* method, StepOps ops, ParamsOf<S, double> c,
                 double h, int steps) {
   return {scene, method, carry.z ? "full" : "qp", W, ops, [=] {
             return std::unique_ptr<KernelInstance>(
@@ -45,12 +46,14 @@ KernelCase make(const char* scene, const char* method, double ops, ParamsOf<S, d
 
 std::vector<KernelCase> all_cases() {
   // The runs of sweeps/: basins_double_well (t = 100, h = 0.01), sync_g_gamma, and the K
-  // showcases, with the parameters written there. FMA-pipe operations per lane-step (the third
-  // argument, 0 = not counted) are read off the compiled step loop of the AVX-512 path with
-  // objdump (README, "Benchmarks"): the double well's q, p step is 3 fused + 4 multiplies + 1 add
-  // + 1 subtract = 9 (p − h/2·K_q fused, ·1/a; q + h·p fused; K_q = (q·q − a²)·(q + q);
-  // b·p½, then − h/2·K_q fused); the full state adds z and its K − pK_p at two points and ln λ
-  // (32); the coupled oscillators' two degrees of freedom and their coupling make 24.
+  // showcases, with the parameters written there. Operations per lane-step (the third argument:
+  // {multiplies and FMAs, adds and subtracts}; {} = not counted) are read off the compiled step
+  // loop of the AVX-512 path with objdump (README, "The kernel against its roofline"): the double
+  // well's q, p step is 3 fused + 4 multiplies + 1 add + 1 subtract = 9 (p − h/2·K_q fused,
+  // ·1/a; q + h·p fused; K_q = (q·q − a²)·(q + q); b·p½, then − h/2·K_q fused); the full state
+  // adds z and its K − pK_p at two points, ln λ and t (8 fused + 15.5 multiplies + 8.5 adds, the
+  // loop doing two steps of one vector); the coupled oscillators' two degrees of freedom and
+  // their coupling make 6 fused + 14 multiplies + 4 adds.
   const DoubleWell::Params<double> well{1.0, 0.1};
   const CoupledOscillators::Params<double> coupled{1.2, 0.8, 0.5, 0.1};
   const KDoubleWell::Params<double> k_well{1.0, 0.1};  // a, gamma
@@ -60,19 +63,19 @@ std::vector<KernelCase> all_cases() {
   const Z2Damping::Params<double> z2{1.0, 0.1};
   using Cs4 = ContactSplitting<YoshidaComposition4>;
   return {
-      make<DoubleWell, HybridLeapfrog, kQp, 32>("double_well", "hybrid_leapfrog", 9, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kQp>("double_well", "hybrid_leapfrog", 9, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kQp, 128>("double_well", "hybrid_leapfrog", 9, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kFull>("double_well", "hybrid_leapfrog", 32, well, 0.01, 10000),
-      make<DoubleWell, SymmetricLeapfrog, kQp>("double_well", "symmetric_leapfrog", 0, well, 0.01, 10000),
-      make<DoubleWell, Cs4, kQp>("double_well", "contact_splitting4", 0, well, 0.01, 10000),
-      make<DoubleWell, Rk4, kQp>("double_well", "rk4", 0, well, 0.01, 10000),
-      make<DampedOscillator, HybridLeapfrog, kFull>("damped_oscillator", "hybrid_leapfrog", 0, oscillator, 0.01, 10000),
-      make<Z2Damping, HybridLeapfrog, kFull>("z2_damping", "hybrid_leapfrog", 0, z2, 0.01, 10000),
-      make<CoupledOscillators, HybridLeapfrog, kQp>("coupled_oscillators", "hybrid_leapfrog", 24, coupled, 0.01, 7000),
-      make<KDoubleWell, HybridLeapfrog, kQp>("K:double_well", "hybrid_leapfrog", 9, k_well, 0.01, 10000),
-      make<KForcedDuffing, Cs4, kQp>("K:forced_duffing", "contact_splitting4", 0, duffing, 0.05, 8000),
-      make<KMagneticPendulum, Cs4, kQp>("K:magnetic_pendulum", "contact_splitting4", 0, magnets, 0.02, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp, 32>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp, 128>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kFull>("double_well", "hybrid_leapfrog", kWellFullOps, well, 0.01, 10000),
+      make<DoubleWell, SymmetricLeapfrog, kQp>("double_well", "symmetric_leapfrog", kNotCounted, well, 0.01, 10000),
+      make<DoubleWell, Cs4, kQp>("double_well", "contact_splitting4", kNotCounted, well, 0.01, 10000),
+      make<DoubleWell, Rk4, kQp>("double_well", "rk4", kNotCounted, well, 0.01, 10000),
+      make<DampedOscillator, HybridLeapfrog, kFull>("damped_oscillator", "hybrid_leapfrog", kNotCounted, oscillator, 0.01, 10000),
+      make<Z2Damping, HybridLeapfrog, kFull>("z2_damping", "hybrid_leapfrog", kNotCounted, z2, 0.01, 10000),
+      make<CoupledOscillators, HybridLeapfrog, kQp>("coupled_oscillators", "hybrid_leapfrog", kCoupledOps, coupled, 0.01, 7000),
+      make<KDoubleWell, HybridLeapfrog, kQp>("K:double_well", "hybrid_leapfrog", kWellQpOps, k_well, 0.01, 10000),
+      make<KForcedDuffing, Cs4, kQp>("K:forced_duffing", "contact_splitting4", kNotCounted, duffing, 0.05, 8000),
+      make<KMagneticPendulum, Cs4, kQp>("K:magnetic_pendulum", "contact_splitting4", kNotCounted, magnets, 0.02, 10000),
   };
 }
 
