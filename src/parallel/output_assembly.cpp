@@ -111,9 +111,10 @@ std::vector<T> converted(const std::vector<double>& values) {
   return out;
 }
 
-// Gathers consecutive blocks of one column into one HDF5 write: each write costs a fixed
-// ~0.2 ms (MPI-IO file view, chunk look-ups), so one write per block of a 512² map (384 writes)
-// cost ~75 ms. The batch is bounded, so memory grows by at most kBatchValues doubles.
+// Gathers consecutive blocks of one column into one write request: blocks that touch merge
+// into one box of the file (OutputFile writes box by box), and each HDF5 call has a fixed cost
+// (~0.2 ms a block through MPI-IO once; 384 writes for a 512² map). The batch is bounded, so
+// memory grows by at most kBatchValues doubles.
 class ColumnBatch {
  public:
   ColumnBatch(OutputFile& file, const DatasetSpec& dataset) : file_(file), dataset_(dataset) {}
