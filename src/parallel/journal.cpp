@@ -22,17 +22,31 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '2'};
+constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '3'};  // 03: word checksum
 constexpr std::size_t kRunIdBytes = 16;  // run_identity() is 16 hex digits
 constexpr const char* kManifestHeader = "contactsweep journal 2";
 constexpr const char* kOldManifestHeader = "contactsweep journal";  // format 1: no identity
 constexpr std::int64_t kMaxSpecBytes = std::int64_t{1} << 26;  // larger: a damaged manifest
 
-// FNV-1a over the payload: catches a torn or truncated block file.
-std::uint64_t checksum(const void* data, std::size_t bytes, std::uint64_t h = 1469598103934665603ull) {
+// FNV-1a over the payload, a 64-bit word at a time in four interleaved streams, then the tail
+// byte by byte: catches a torn or truncated block file. Each step (h ^ w)·prime is a bijection
+// of h for odd prime, so a change in any one word always changes the sum. Byte by byte it took
+// ~1.5 ns a byte: 10 ms of the writer's time on a 512² map.
+std::uint64_t checksum(const void* data, std::size_t bytes) {
+  constexpr std::uint64_t kBasis = 1469598103934665603ull, kPrime = 1099511628211ull;
   const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
+  std::uint64_t stream[4] = {kBasis, kBasis ^ 1, kBasis ^ 2, kBasis ^ 3};
+  std::size_t i = 0;
+  for (; i + sizeof stream <= bytes; i += sizeof stream)
+    for (int k = 0; k < 4; ++k) {
+      std::uint64_t word;
+      std::memcpy(&word, p + i + k * sizeof word, sizeof word);
+      stream[k] = (stream[k] ^ word) * kPrime;
+    }
+  std::uint64_t sum = kBasis ^ bytes;
+  for (std::uint64_t s : stream) sum = (sum ^ s) * kPrime;
+  for (; i < bytes; ++i) sum = (sum ^ p[i]) * kPrime;
+  return sum;
 }
 
 std::string errno_text(int error) { return std::strerror(error); }
