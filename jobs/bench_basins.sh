@@ -3,8 +3,10 @@
 # (2.62e9 trajectory-steps), end to end (start-up, integration, HDF5 write), with and without
 # the basin early stop, REPEATS times each; prints every run and the medians.
 #   bash jobs/bench_basins.sh [REPEATS=5] [RANKS=2] [THREADS=1]
+# RANKS=0 runs one process without a launcher (THREADS OpenMP threads, bound to cores): the
+# layout for one node, which skips mpirun's own start (~0.3 s here) and never starts MPI.
 # Rates are nominal: grid points x steps / time, so the early-stop rate shows its gain. Two
-# times per run: "wall" is the whole mpirun command (process launch ~0.4 s here included);
+# times per run: "wall" is the whole command (mpirun's process launch ~0.3 s included);
 # "run" is the program's own end-to-end time (set-up after spec parsing, integration, HDF5 write and
 # commit), as it reports it.
 set -euo pipefail
@@ -24,7 +26,9 @@ for mode in full early_stop; do
   wall_rates=() run_rates=()
   for ((i = 1; i <= repeats; i++)); do
     start=$(date +%s.%N)
-    report=$(mpirun -np "$ranks" --bind-to core --map-by "slot:PE=$threads" build/contactsweep \
+    launcher=(mpirun -np "$ranks" --bind-to core --map-by "slot:PE=$threads")
+    ((ranks == 0)) && launcher=(env OMP_PROC_BIND=close OMP_PLACES=cores)
+    report=$("${launcher[@]}" build/contactsweep \
       run sweeps/basins_double_well.toml -o "$out/b.h5" --force "${set_args[@]}" 2>&1 | tail -n 1)
     end=$(date +%s.%N)
     wall=$(awk -v n="$traj_steps" -v a="$start" -v b="$end" 'BEGIN {printf "%.3e", n / (b - a)}')
@@ -33,5 +37,5 @@ for mode in full early_stop; do
     echo "$mode $i: wall $(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.3f", b - a}') s ($wall traj-steps/s), run $run s ($run_rate traj-steps/s)"
     wall_rates+=("$wall") run_rates+=("$run_rate")
   done
-  echo "$mode: median run $(printf '%s\n' "${run_rates[@]}" | median), wall $(printf '%s\n' "${wall_rates[@]}" | median) traj-steps/s over $repeats runs ($ranks ranks x $threads threads)"
+  echo "$mode: median run $(printf '%s\n' "${run_rates[@]}" | median), wall $(printf '%s\n' "${wall_rates[@]}" | median) traj-steps/s over $repeats runs ($( ((ranks == 0)) && echo "1 process, no launcher" || echo "$ranks ranks") x $threads threads)"
 done
