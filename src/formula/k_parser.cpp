@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string_view>
 
 #include "formula/k_tree.hpp"
@@ -17,6 +18,35 @@ namespace cs::k_formula {
 [[noreturn]] void fail(const std::string& message) { throw InputError("scene.K: " + message); }
 
 namespace {
+
+// Powers in the K of any physics we meet are small: q^4, r^-3/2, a Lennard-Jones r^-12, a
+// polytrope's q^(n+1). Far beyond that the symbolic algebra on K does not finish: the fuzzer
+// found e^4E8 in a K with a fraction, whose normal form (polynomial gcds) ran for minutes, and a
+// constant like 2^4E8 is computed exactly. So numeric exponents are bounded, as written and
+// after GiNaC combines them (q^40*q^40 is q^80).
+constexpr int kMaxExponent = 64;
+
+bool exponent_too_large(const ex& exponent) {
+  return is_a<numeric>(exponent) && GiNaC::abs(ex_to<numeric>(exponent)) > kMaxExponent;
+}
+
+std::string text_of(const ex& e) {
+  std::ostringstream os;
+  os << e;
+  return os.str();
+}
+
+// A constant raised to a constant is computed exactly, so ((2^64)^64)^64 would grow without
+// bound with every exponent small: refused once it leaves the range of a double.
+bool constant_power_overflows(const ex& base, const ex& exponent) {
+  if (!is_a<numeric>(base) || !is_a<numeric>(exponent)) return false;
+  const numeric& b = ex_to<numeric>(base);
+  if (b.is_zero() || GiNaC::abs(b) == 1) return false;
+  const double magnitude = std::fabs(b.to_double());
+  const double power = std::fabs(ex_to<numeric>(exponent).to_double());
+  return !(magnitude > 0.0) || !std::isfinite(magnitude) ||
+         std::fabs(std::log2(magnitude)) * power > 2048.0;
+}
 
 constexpr std::array<std::string_view, 13> kFunctionNames = {
     "sin", "cos", "tan", "exp", "log", "sqrt", "abs", "sinh", "cosh", "tanh", "asin", "acos", "atan"};
@@ -433,6 +463,11 @@ class Parser {
     for (auto it = signs.rbegin(); it != signs.rend(); ++it)
       if (*it) exponent = make_node(Node::neg, -exponent->value, exponent);
     if (at_op('^')) syntax(cur_.offset, "a^b^c is ambiguous; write (a^b)^c or a^(b^c)");
+    if (exponent_too_large(exponent->value))
+      fail("the power at " + at(caret) + " has the exponent " + text_of(exponent->value) +
+           "; K takes numeric exponents up to " + std::to_string(kMaxExponent) + " in magnitude");
+    if (constant_power_overflows(base->value, exponent->value))
+      fail("the power at " + at(caret) + " is a constant beyond the range of a double");
     ex e = guarded(caret, "the power", [&] { return GiNaC::pow(base->value, exponent->value); });
     check_real(e, from);
     return make_node(Node::pow, e, base, exponent);
@@ -564,6 +599,11 @@ Parsed parse(const std::string& text) {
   Parsed parsed;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");
+  for (GiNaC::const_preorder_iterator it = parsed.K.preorder_begin(); it != parsed.K.preorder_end(); ++it)
+    if (is_a<GiNaC::power>(*it) && exponent_too_large(it->op(1)))
+      fail("has a power with the exponent " + text_of(it->op(1)) +
+           " once its factors are combined; K takes numeric exponents up to " +
+           std::to_string(kMaxExponent) + " in magnitude");
   return parsed;
 }
 
