@@ -1,5 +1,5 @@
-// OutputFile under MPI: ranks write interleaved, ragged point ranges collectively; rank 0 reads
-// the committed file back with plain serial HDF5 and checks every cell against a function of its
+// OutputFile under MPI: ranks write interleaved, ragged point ranges collectively (and rank 0
+// alone through the serial writer, MPI_COMM_NULL); rank 0 reads the committed file back with plain serial HDF5 and checks every cell against a function of its
 // flat index, the dimension scales, the attributes and the temporary-file protocol.
 //
 // Every test does its collective work first and its rank-0 assertions last, so a failing check
@@ -309,12 +309,15 @@ FileLayout grid_layout() {
 }
 
 // Writes every dataset of grid_layout(): settle_time and label only on the first half of the
-// points, so the fill values must show in the other half.
-void write_grid_file(const std::string& path) {
-  const std::vector<PointRange> mine =
-      ragged_ranges(kPoints, world_rank(), world_size(), /*max_block=*/4);
+// points, so the fill values must show in the other half. Collectively by all ranks over
+// MPI_COMM_WORLD, or with MPI_COMM_NULL by this process alone (the serial writer, which is how
+// contactsweep writes): then it writes every point itself.
+void write_grid_file(const std::string& path, MPI_Comm comm = MPI_COMM_WORLD) {
+  const bool alone = comm == MPI_COMM_NULL;
+  const std::vector<PointRange> mine = ragged_ranges(kPoints, alone ? 0 : world_rank(),
+                                                     alone ? 1 : world_size(), /*max_block=*/4);
   const std::vector<PointRange> half = clipped(mine, kPoints / 2);
-  OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+  OutputFile out(path, grid_layout(), comm);
   out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
   out.write("traj_q", mine, values_for<double>(mine, kNt, traj_q).data());
   out.write("settle_time", half, values_for<double>(half, 1, settle_time).data());
@@ -324,16 +327,8 @@ void write_grid_file(const std::string& path) {
   out.commit();
 }
 
-TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
-  const std::string path = output_path();
-  remove_on_rank0(path);
-  write_grid_file(path);
-  EXPECT_EQ(open_hdf5_objects(), 0);
-  MPI_Barrier(MPI_COMM_WORLD);
-  EXPECT_TRUE(exists(path)) << "rank " << world_rank();
-  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
-  if (world_rank() != 0) return;
-
+// Every cell, scale and attribute of a file that write_grid_file() wrote.
+void expect_grid_file(const std::string& path) {
   Reader r(path);
   ASSERT_GE(r.file, 0) << path;
   EXPECT_EQ(shape_of(r.file, "final_q"), (std::vector<hsize_t>{kNq, kNgamma}));
@@ -408,48 +403,76 @@ TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
   H5Dclose(la);
 }
 
+TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
+  const std::string path = output_path();
+  remove_on_rank0(path);
+  write_grid_file(path);
+  EXPECT_EQ(open_hdf5_objects(), 0);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_TRUE(exists(path)) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
+  if (world_rank() != 0) return;
+  expect_grid_file(path);
+}
+
+// The serial writer (MPI_COMM_NULL) writes box by box from memory spaces of each box's shape,
+// a path of its own beside the collective one; the file must be the same in every cell.
+TEST(OutputFile, SerialWriterTwoAxisRoundTrip) {
+  if (world_rank() != 0) return;  // one process, no MPI call
+  const std::string path = sibling_path("serial");
+  std::filesystem::remove(path);
+  write_grid_file(path, MPI_COMM_NULL);
+  EXPECT_EQ(open_hdf5_objects(), 0);
+  EXPECT_TRUE(exists(path));
+  EXPECT_FALSE(exists(path + ".partial"));
+  expect_grid_file(path);
+  std::filesystem::remove(path);
+}
+
 // Three axes and several distributions in one file: the flat-range-to-hyperslab decomposition
 // meets partial and whole rows at every level, at any rank count (the gappy distributions leave
-// holes even at np 1, where ragged blocks merge into one range).
-TEST(OutputFile, ThreeAxesEveryDistribution) {
-  const std::string path = sibling_path("3axes");
-  remove_on_rank0(path);
-  constexpr std::int64_t kPts = 3 * 4 * 5;
-  constexpr std::int64_t kT = 3;
-  constexpr int kMaxGap = 12;
+// holes even at np 1, where ragged blocks merge into one range). Written as `rank` of `size`
+// over `comm`; expect_three_axes_file() checks it.
+constexpr std::int64_t kPts = 3 * 4 * 5;
+constexpr std::int64_t kT = 3;
+constexpr int kMaxGap = 12;
+double three_axes_value(std::int64_t i, std::int64_t j) { return 10.0 * static_cast<double>(i) + j; }
+
+std::vector<std::string> three_axes_names() {
+  std::vector<std::string> names = {"ragged7", "ragged13", "blocks", "last_rank", "empty"};
+  for (int m = 1; m <= kMaxGap; ++m) names.push_back("gappy" + std::to_string(m));
+  return names;
+}
+
+void write_three_axes_file(const std::string& path, MPI_Comm comm, int rank, int size) {
   FileLayout layout;
   layout.axes = {{"a", linspace(0, 1, 3), "a", ""},
                  {"b", linspace(0, 1, 4), "b", ""},
                  {"c", linspace(0, 1, 5), "c", ""}};
   layout.time = CoordinateSpec{"t", linspace(0, 1, kT), "time", ""};
-  const int rank = world_rank();
-  const int size = world_size();
-  std::vector<std::string> names = {"ragged7", "ragged13", "blocks", "last_rank", "empty"};
+  const std::vector<std::string> names = three_axes_names();
   std::vector<std::vector<PointRange>> distributions = {
       ragged_ranges(kPts, rank, size, 7),
       ragged_ranges(kPts, rank, size, 13),
       block_ranges(kPts, rank, size),
       rank == size - 1 ? std::vector<PointRange>{{0, kPts}} : std::vector<PointRange>{},
       {}};
-  for (int m = 1; m <= kMaxGap; ++m) {
-    names.push_back("gappy" + std::to_string(m));
-    distributions.push_back(gappy_ranges(kPts, rank, size, m));
-  }
+  for (int m = 1; m <= kMaxGap; ++m) distributions.push_back(gappy_ranges(kPts, rank, size, m));
   for (const std::string& name : names) {
     layout.datasets.push_back(measure(name, name, /*time=*/true));
   }
-  const auto f = [](std::int64_t i, std::int64_t j) { return 10.0 * static_cast<double>(i) + j; };
-  {
-    OutputFile out(path, layout, MPI_COMM_WORLD);
-    for (std::size_t d = 0; d < names.size(); ++d) {
-      out.write(names[d], distributions[d], values_for<double>(distributions[d], kT, f).data());
-    }
-    out.commit();
+  OutputFile out(path, layout, comm);
+  for (std::size_t d = 0; d < names.size(); ++d) {
+    out.write(names[d], distributions[d],
+              values_for<double>(distributions[d], kT, three_axes_value).data());
   }
-  if (rank != 0) return;
+  out.commit();
+}
+
+void expect_three_axes_file(const std::string& path) {
   Reader r(path);
   ASSERT_GE(r.file, 0);
-  for (const std::string& name : names) {
+  for (const std::string& name : three_axes_names()) {
     const auto values = read_all<double>(r.file, name, H5T_NATIVE_DOUBLE);
     ASSERT_EQ(values.size(), static_cast<std::size_t>(kPts * kT)) << name;
     const int gap = name.starts_with("gappy") ? std::stoi(name.substr(5)) : 0;
@@ -457,13 +480,30 @@ TEST(OutputFile, ThreeAxesEveryDistribution) {
       const double v = values[static_cast<std::size_t>(i)];
       const bool written = name == "empty" ? false : gap == 0 || written_in_gappy(i / kT, gap);
       if (written) {
-        EXPECT_EQ(v, f(i / kT, i % kT)) << name << " element " << i;
+        EXPECT_EQ(v, three_axes_value(i / kT, i % kT)) << name << " element " << i;
       } else {
         EXPECT_TRUE(std::isnan(v)) << name << " element " << i;
       }
     }
     expect_scales(r.file, name, {"a", "b", "c", "t"});
   }
+}
+
+TEST(OutputFile, ThreeAxesEveryDistribution) {
+  const std::string path = sibling_path("3axes");
+  remove_on_rank0(path);
+  write_three_axes_file(path, MPI_COMM_WORLD, world_rank(), world_size());
+  if (world_rank() == 0) expect_three_axes_file(path);
+}
+
+TEST(OutputFile, SerialWriterThreeAxesEveryDistribution) {
+  if (world_rank() != 0) return;  // one process, no MPI call
+  const std::string path = sibling_path("3axes_serial");
+  std::filesystem::remove(path);
+  write_three_axes_file(path, MPI_COMM_NULL, 0, 1);
+  EXPECT_EQ(open_hdf5_objects(), 0);
+  expect_three_axes_file(path);
+  std::filesystem::remove(path);
 }
 
 // No grid: one trajectory, scalar datasets and time series of shape (t). The last rank writes it.
