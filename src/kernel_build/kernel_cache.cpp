@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "kernel_build/host_cpu.hpp"
 #include "kernel_build/kernel_source.hpp"
 #include "parallel/agreement.hpp"
 #include "parallel/comm.hpp"
@@ -67,7 +68,7 @@ std::string cache_key(const std::string& source) {
   const Toolchain tc = toolchain();
   std::uint64_t h = fnv1a(source);
   for (const std::string& part : {tc.compiler, fmt::format("{}", fmt::join(tc.flags, " ")),
-                                  std::string(kVersion), build_identity()})
+                                  std::string(kVersion), build_identity(), host_cpu_identity()})
     h = fnv1a(part, fnv1a(std::string_view("\0", 1), h));
   return hex64(h);
 }

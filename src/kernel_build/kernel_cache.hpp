@@ -1,7 +1,9 @@
 // Kernels of custom scenes, compiled once and kept: the generated source is compiled by the
 // compiler and with the flags this program was built with into a shared object, cached under a
-// hash of (source, compiler, flags, version, build) in $CONTACTSWEEP_CACHE, else
-// $XDG_CACHE_HOME/contactsweep, else ~/.cache/contactsweep, and loaded with dlopen.
+// hash of (source, compiler, flags, version, build, CPU) in $CONTACTSWEEP_CACHE, else
+// $XDG_CACHE_HOME/contactsweep, else ~/.cache/contactsweep, and loaded with dlopen. The CPU is
+// in the key because the flags say -march=native: a cache shared by machines of several kinds
+// keeps a kernel for each (host_cpu.hpp).
 //
 // Concurrent builders of the same kernel (ranks of a node, jobs sharing a home directory) build
 // it once: the builder holds a lock on KEY.lock, compiles to a private name and renames the
