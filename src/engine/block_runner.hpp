@@ -231,11 +231,11 @@ class BlockRunner {
     Tile& t = main_;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
-      int healthy = 1;
+      std::int64_t healthy = 1;
       if constexpr (!S::kz_constant) healthy = t.broken[i] <= 0.0;  // else never set
       for (int d = 0; d < D; ++d)
         healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
-      int trapped = 0;
+      std::int64_t trapped = 0;
       if constexpr (std::is_same_v<S, DoubleWell>) {
         double well = t.q[0][i] * t.q[0][i] - a2_[i];
         trapped = 0.5 * (t.p[0][i] * t.p[0][i]) + 0.5 * (well * well) < trap_energy_[i];
@@ -367,7 +367,7 @@ class BlockRunner {
 
   void look_at_main() {
     screen();
-    int any = 0;
+    std::int64_t any = 0;
     for (int i = 0; i < W; ++i) any |= attention_[i];
     if (!any) return;  // the common case: nothing to do until the next chunk
     for (int i = 0; i < W; ++i) {
@@ -615,8 +615,11 @@ class BlockRunner {
   // Screening state of the main tile, structure of arrays.
   alignas(64) std::int64_t steps_done_[W];  // the main tile's step counts (Book::n is set
                                             // from it when a lane is looked at)
-  alignas(64) int countdown_[W];
-  alignas(64) int attention_[W];
+  // 64 bits wide, as the doubles they are computed from: screen()'s vector loop then needs no
+  // packing of 64-bit compare masks into 32-bit lanes (with AVX2 the look's share of a map's
+  // time went from 6.8 to 5.7 %).
+  alignas(64) std::int64_t countdown_[W];
+  alignas(64) std::int64_t attention_[W];
   alignas(64) double trap_energy_[W];
   alignas(64) double a2_[W];
   alignas(64) double anchor_[N][W];      // where each lane's current run near a point began
