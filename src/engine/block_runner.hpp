@@ -136,7 +136,7 @@ class BlockRunner {
     t.steps_done[i] = 0.0;
     if (&t == &main_) {
       steps_done_[i] = 0;
-      countdown_[i] = std::numeric_limits<int>::max();
+      countdown_[i] = std::numeric_limits<std::int64_t>::max();
       trap_energy_[i] = -std::numeric_limits<double>::infinity();
       a2_[i] = 0.0;
       near_[i] = 0.0;
@@ -256,7 +256,7 @@ class BlockRunner {
 #pragma GCC ivdep
       for (int i = 0; i < W; ++i) {
         double q[D], p[D];
-        int inside = 1;
+        std::int64_t inside = 1;
         for (int d = 0; d < D; ++d) {
           q[d] = t.q[d][i], p[d] = t.p[d][i];
           inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
@@ -329,7 +329,7 @@ class BlockRunner {
     const double tolerance = plan_.attractors.tolerance;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
-      int near = 1;
+      std::int64_t near = 1;
       for (int d = 0; d < D; ++d) {
         near &= std::fabs(folded(t.q[d][i] - anchor_[d][i], d)) <= tolerance;
         near &= std::fabs(folded(t.p[d][i] - anchor_[D + d][i], D + d)) <= tolerance;
@@ -350,7 +350,7 @@ class BlockRunner {
   }
 
   // Chunks until a lane at step n is due for a sample or for the end of its run.
-  int chunks_until_due(std::int64_t n) const {
+  std::int64_t chunks_until_due(std::int64_t n) const {
     std::int64_t due = (steps_ / plan_.chunk) * plan_.chunk;
     if (plan_.samples > 0) {
       auto every = plan_.spec.measures.trajectory->every;
@@ -362,7 +362,7 @@ class BlockRunner {
       auto every = plan_.attractors.sample_steps;
       due = std::min(due, (n / every + 1) * every);
     }
-    return static_cast<int>((due - n) / plan_.chunk);
+    return (due - n) / plan_.chunk;
   }
 
   void look_at_main() {

@@ -4,13 +4,15 @@
 #include <array>
 #include <fstream>
 #include <string_view>
+#include <vector>
 
 namespace cs {
 namespace {
 
-constexpr std::array<std::string_view, 10> kIdentityKeys = {
-    "vendor_id",       "cpu family",       "model",       "model name", "flags",
-    "CPU implementer", "CPU architecture", "CPU variant", "CPU part",   "Features"};
+constexpr std::array<std::string_view, 15> kIdentityFields = {
+    "vendor_id",        "cpu family",  "model",    "model name", "flags", "CPU implementer",
+    "CPU architecture", "CPU variant", "CPU part", "Features",   "cpu",   "features",
+    "facilities",       "isa",         "uarch"};
 
 std::string_view trimmed(std::string_view s) {
   const auto first = s.find_first_not_of(" \t");
@@ -21,20 +23,21 @@ std::string_view trimmed(std::string_view s) {
 }  // namespace
 
 std::string cpu_identity(std::istream& cpuinfo) {
+  // The first occurrence of each field: on x86 all of them are in the first processor's block;
+  // 32-bit Arm lists Features and the CPU part after the blocks.
   std::string identity;
-  bool seen_processor = false;
+  std::vector<std::string_view> seen;
   for (std::string line; std::getline(cpuinfo, line);) {
     const auto colon = line.find(':');
-    const std::string_view key =
-        trimmed(std::string_view(line).substr(0, std::min(colon, line.size())));
-    if (key == "processor") {
-      if (seen_processor) break;  // the second processor's block: the first one is complete
-      seen_processor = true;
-      continue;
-    }
     if (colon == std::string::npos) continue;
-    if (std::find(kIdentityKeys.begin(), kIdentityKeys.end(), key) == kIdentityKeys.end()) continue;
-    identity += std::string(key) + ": " + std::string(trimmed(std::string_view(line).substr(colon + 1))) + "\n";
+    const std::string_view field = trimmed(std::string_view(line).substr(0, colon));
+    const auto known = std::find(kIdentityFields.begin(), kIdentityFields.end(), field);
+    if (known == kIdentityFields.end()) continue;
+    if (std::find(seen.begin(), seen.end(), *known) != seen.end()) continue;
+    seen.push_back(*known);
+    identity += std::string(field) + ": ";
+    identity += trimmed(std::string_view(line).substr(colon + 1));
+    identity += '\n';
   }
   return identity;
 }

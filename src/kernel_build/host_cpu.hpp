@@ -9,11 +9,11 @@
 
 namespace cs {
 
-// The lines of the first processor in a /proc/cpuinfo text that decide what -march=native
-// means: vendor, family, model and name, and the feature flags (x86: vendor_id, cpu family,
-// model, model name, flags; Arm: CPU implementer, architecture, variant, part, Features).
-// Lines that differ between cores or over time (clock, core ids, bogomips) are left out.
-// Empty if the text has none of them.
+// The /proc/cpuinfo lines that decide what -march=native means, each field's first occurrence:
+// vendor, family, model and name, and the feature flags (x86: vendor_id, cpu family, model,
+// model name, flags; Arm: CPU implementer, architecture, variant, part, Features; POWER: cpu;
+// s390x: features, facilities; RISC-V: isa, uarch). Fields that differ between cores or over
+// time (clock, core ids, bogomips) are left out. Empty if the text has none of them.
 std::string cpu_identity(std::istream& cpuinfo);
 
 // cpu_identity() of this host's /proc/cpuinfo, read once; empty where there is none.

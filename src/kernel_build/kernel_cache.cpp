@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -19,6 +20,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "io/log.hpp"
 #include "kernel_build/host_cpu.hpp"
 #include "kernel_build/kernel_source.hpp"
 #include "parallel/agreement.hpp"
@@ -64,11 +66,20 @@ std::string header_directory() {
 
 std::string hex64(std::uint64_t h) { return fmt::format("{:016x}", h); }
 
+// Whether the flags build for the CPU they run on: then the kernel is fit for this kind of CPU
+// only, and the key names it.
+bool builds_for_this_cpu(const Toolchain& tc) {
+  return std::any_of(tc.flags.begin(), tc.flags.end(), [](const std::string& flag) {
+    return flag == "-march=native" || flag == "-mcpu=native";
+  });
+}
+
 std::string cache_key(const std::string& source) {
   const Toolchain tc = toolchain();
+  const std::string cpu = builds_for_this_cpu(tc) ? host_cpu_identity() : std::string();
   std::uint64_t h = fnv1a(source);
   for (const std::string& part : {tc.compiler, fmt::format("{}", fmt::join(tc.flags, " ")),
-                                  std::string(kVersion), build_identity(), host_cpu_identity()})
+                                  std::string(kVersion), build_identity(), cpu})
     h = fnv1a(part, fnv1a(std::string_view("\0", 1), h));
   return hex64(h);
 }
@@ -193,6 +204,10 @@ BuiltKernel build_kernel(const std::string& source) {
       throw std::runtime_error("cannot write the kernel source " + source_file);
   }
   const Toolchain tc = toolchain();
+  if (builds_for_this_cpu(tc) && host_cpu_identity().empty())
+    cs::log("contactsweep: warning: /proc/cpuinfo does not tell what CPU this is, so the kernel cache "
+        "cannot keep kernels built with -march=native apart by CPU; machines of different kinds "
+        "need CONTACTSWEEP_CACHE directories of their own");
   std::vector<std::string> args{tc.compiler};
   args.insert(args.end(), tc.flags.begin(), tc.flags.end());
   args.push_back("-I" + tc.include_dir);

@@ -2,7 +2,7 @@
 // compiler and with the flags this program was built with into a shared object, cached under a
 // hash of (source, compiler, flags, version, build, CPU) in $CONTACTSWEEP_CACHE, else
 // $XDG_CACHE_HOME/contactsweep, else ~/.cache/contactsweep, and loaded with dlopen. The CPU is
-// in the key because the flags say -march=native: a cache shared by machines of several kinds
+// in the key when the flags say -march=native: a cache shared by machines of several kinds then
 // keeps a kernel for each (host_cpu.hpp).
 //
 // Concurrent builders of the same kernel (ranks of a node, jobs sharing a home directory) build
