@@ -776,6 +776,11 @@ const std::vector<BadSpec> kBadSpecs = {
      "--set grid.p_0.n=4: grid.p_0: give either { from, to, n } or { values = [...] }, not both"},
     {"set_unknown_scene", kDw, {"scene.name=duble_well"},
      "--set scene.name=duble_well: unknown scene \"duble_well\""},
+    // A NUL in any string: HDF5 attributes and C strings would cut the text there (issue 22).
+    {"nul_in_title", "title = \"map\\u0000hidden\"\n" + kDw, {},
+     "title contains a NUL character"},
+    {"nul_in_label", "[scene]\nK = \"p^2/2 + q^2/2\"\nlabel = \"osc\\u0000illator\"\n", {},
+     "scene.label contains a NUL character"},
 };
 // clang-format on
 

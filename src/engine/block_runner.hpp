@@ -104,14 +104,22 @@ class BlockRunner {
     for (int i = 0; i < W; ++i) clear(main_, main_book_, i);
     for (int i = 0; i < W; ++i) clear(fin_, fin_book_, i);
     refill();
+    std::int64_t reported = 0;  // lane-steps added to the progress counter
     while (active_ > 0 || fin_count_ > 0) {
       if (active_ > 0) {
         advance_tile(main_, plan_.chunk);
+        if (out_.in_flight_steps != nullptr) {
+          const std::int64_t steps = std::int64_t{active_} * plan_.chunk;
+          out_.in_flight_steps->fetch_add(steps, std::memory_order_relaxed);
+          reported += steps;
+        }
         look_at_main();
         refill();
       }
       if (fin_count_ == W || (active_ == 0 && fin_count_ > 0)) run_finisher();
     }
+    if (out_.in_flight_steps != nullptr)
+      out_.in_flight_steps->fetch_sub(reported, std::memory_order_relaxed);
   }
 
  private:

@@ -3,6 +3,7 @@
 // converted to the dataset's element type when written.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,6 +24,9 @@ struct BlockResults {
   PointRange range;
   std::vector<std::vector<double>> columns;  // in the plan's column order
   std::int64_t lane_steps = 0;  // steps its lanes were integrated (not journalled: 0 if loaded)
+  // Where a running block adds the lane-steps it integrates, chunk by chunk, and takes them out
+  // again when it ends (parallel/progress.hpp): progress inside a block that runs for hours.
+  std::atomic<std::int64_t>* in_flight_steps = nullptr;
 
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;

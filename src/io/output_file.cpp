@@ -184,7 +184,7 @@ void sync_path(const std::string& path, int flags) {
 // Without `replace`, a file that appeared at `final_path` while the run computed is never
 // replaced: link() fails if the name exists, where rename() would silently overwrite it.
 void place_durably(const std::string& partial_path, const std::string& final_path, bool replace) {
-  sync_path(partial_path, O_RDONLY);
+  sync_path(partial_path, O_RDONLY | O_NOFOLLOW);
   if (replace) {
     std::filesystem::rename(partial_path, final_path);
   } else if (::link(partial_path.c_str(), final_path.c_str()) == 0) {
@@ -214,7 +214,9 @@ void place_durably(const std::string& partial_path, const std::string& final_pat
 // creates the file. Another program may take it in between: that rare case still fails cleanly
 // (see hdf5_files_left_open).
 void check_room_for(const std::string& path, double bytes) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // O_EXCL: never through a link someone planted under the temporary's name (a shared
+  // directory), never into a file that is not ours.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   if (fd < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
   const int error = ::posix_fallocate(fd, 0, static_cast<off_t>(bytes));
   ::close(fd);
@@ -614,7 +616,9 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   checker(H5Pset_obj_track_times(fcpl.get(), false), what);  // root group
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
   checker(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), what);
-  file = FileHandle(checker(H5Fcreate(partial_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), what));
+  // H5F_ACC_EXCL (O_CREAT | O_EXCL): a name planted since the stale one was removed, a link
+  // above all, makes the create fail instead of writing through it.
+  file = FileHandle(checker(H5Fcreate(partial_path.c_str(), H5F_ACC_EXCL, fcpl.get(), fapl.get()), what));
   for (const auto& [name, value] : layout.text_attributes) {
     write_text_attribute(file.get(), name, value, checker);
   }
@@ -772,7 +776,8 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   if (layout.time) time_length = layout.time->values.size();
 
   // A stale temporary from a killed run may be anything (read-only, even a directory); start
-  // from nothing rather than let H5F_ACC_TRUNC trip over it.
+  // from nothing. remove() takes a link itself away, never what it points to, and fails on a
+  // name another user owns in a shared (sticky) directory: then the run is refused.
   on_rank0_agreed(comm, partial_path, "cannot remove the stale temporary file",
                   [&] { std::filesystem::remove(partial_path); });
   on_rank0_agreed(comm, partial_path, "not enough room for the output",

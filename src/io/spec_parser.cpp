@@ -336,7 +336,13 @@ class SpecReader {
   }
 
   std::string string(const toml::node& node, std::string_view key) const {
-    if (const auto* s = node.as_string()) return s->get();
+    if (const auto* s = node.as_string()) {
+      // TOML allows "\u0000"; HDF5 attributes and C strings would cut the text there.
+      if (s->get().find('\0') != std::string::npos)
+        fail(&node, fmt::format("{} contains a NUL character (\\u0000), which no attribute or "
+                                "name can hold", key));
+      return s->get();
+    }
     fail_type(node, key, "a string (in quotes)");
   }
 

@@ -54,4 +54,9 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
       fmt::arg("uniform", choice.uniform_parameters));
 }
 
+std::string with_kernel_key(const std::string& source, const std::string& key) {
+  return fmt::format("{}\nextern \"C\" [[gnu::visibility(\"default\")]] const char {}[] = \"{}\";\n",
+                     source, kKernelKeySymbol, key);
+}
+
 }  // namespace cs

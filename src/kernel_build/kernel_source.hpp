@@ -11,6 +11,8 @@
 namespace cs {
 
 inline constexpr const char* kKernelEntry = "contactsweep_run_block";
+// A C string constant each kernel exports: the cache key it was built for (kernel_cache.hpp).
+inline constexpr const char* kKernelKeySymbol = "contactsweep_kernel_key";
 
 struct KernelChoice {
   std::string method;  // a name from method_catalog()
@@ -21,5 +23,8 @@ struct KernelChoice {
 // The complete source text. `scene_header` defines struct `scene_struct` in namespace cs.
 std::string kernel_source(const std::string& scene_header, const std::string& scene_struct,
                           const KernelChoice& choice);
+
+// `source` with the definition of kKernelKeySymbol holding `key` appended.
+std::string with_kernel_key(const std::string& source, const std::string& key);
 
 }  // namespace cs

@@ -9,18 +9,15 @@
 #include <climits>
 #include <cstring>
 #include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "io/log.hpp"
+#include "io/owned_directory.hpp"
 #include "io/run_spec.hpp"
 
 namespace cs {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr char kBlockMagic[8] = {'C', 'S', 'J', 'B', 'L', 'K', '0', '3'};  // 03: word checksum
 constexpr std::size_t kRunIdBytes = 16;  // run_identity() is 16 hex digits
@@ -51,35 +48,17 @@ std::uint64_t checksum(const void* data, std::size_t bytes) {
 
 std::string errno_text(int error) { return std::strerror(error); }
 
-// Writes `bytes` to `path` so that `path` either does not exist or holds all of them; a failure
-// removes the temporary (a full disk must not fill up with empty .tmp files).
-void write_atomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot create " + tmp + ": " + errno_text(errno));
-  auto give_up = [&](const std::string& what, int error) {
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error("cannot " + what + " " + tmp + ": " + errno_text(error));
-  };
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) give_up("write", errno);
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) give_up("flush", errno);
-  if (::close(fd) != 0) {
-    int error = errno;
-    ::unlink(tmp.c_str());
-    throw std::runtime_error("cannot flush " + tmp + ": " + errno_text(error));
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    int error = errno;
-    ::unlink(tmp.c_str());
-    throw std::runtime_error("cannot rename " + tmp + ": " + errno_text(error));
-  }
+bool all_digits(std::string_view text) {
+  return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
+}
+
+// The names the journal format defines: clearing a journal removes these and nothing else, so a
+// file someone else put there is never deleted (the directory then stays, with a warning).
+bool is_journal_entry(std::string_view name) {
+  if (name.size() > 4 && name.substr(name.size() - 4) == ".tmp") name.remove_suffix(4);
+  if (name == "manifest") return true;
+  return name.size() > 10 && name.substr(0, 6) == "block_" && name.substr(name.size() - 4) == ".bin" &&
+         all_digits(name.substr(6, name.size() - 10));
 }
 
 std::string manifest_text(const JournalManifest& m) {
@@ -114,14 +93,16 @@ bool read_number(std::istream& in, const char* key, std::int64_t& value) {
 }
 
 // The manifest, or the reason there is none ("" when there is no manifest file at all).
-std::optional<JournalManifest> read_manifest(const std::string& path, std::string& problem) {
-  std::error_code error;
-  if (!fs::exists(path, error)) return std::nullopt;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    problem = "cannot read " + path + ": " + errno_text(errno);
+std::optional<JournalManifest> read_manifest(const OwnedDirectory& dir, std::string& problem) {
+  const std::string path = dir.path_of("manifest");
+  struct stat status {};
+  if (::fstatat(dir.fd(), "manifest", &status, AT_SYMLINK_NOFOLLOW) != 0) return std::nullopt;
+  std::string bytes;
+  if (!dir.read_file("manifest", bytes)) {
+    problem = "its manifest " + path + " is not a readable file of yours";
     return std::nullopt;
   }
+  std::istringstream in(bytes);
   std::string header;
   std::getline(in, header);
   if (header == kOldManifestHeader) {
@@ -175,27 +156,37 @@ Journal::Journal(const std::string& output_path, std::string run_id)
     : directory_(output_path + ".journal"), run_id_(std::move(run_id)) {}
 
 Journal::~Journal() {
-  if (!started_ && created_directory_) {  // refused before it began: leave no trace
-    std::error_code ignored;
-    fs::remove(directory_ + "/lock", ignored);
-    fs::remove(directory_, ignored);
+  if (!started_ && dir_.created()) {  // refused before it began: leave no trace
+    dir_.remove_file("lock");
+    ::rmdir(directory_.c_str());
   }
   if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
+const OwnedDirectory& Journal::dir() const {
+  std::call_once(opened_, [&] {
+    dir_ = OwnedDirectory(directory_, "the journal of this output", OwnedDirectory::Create::no);
+  });
+  if (!dir_.is_open())
+    throw std::runtime_error("the journal '" + directory_ + "' of this run is missing");
+  return dir_;
+}
+
 void Journal::lock() {
-  const std::string path = directory_ + "/lock";
   auto refuse = [&](const std::string& why) {
     throw InputError("cannot lock the journal '" + directory_ + "' of this output: " + why);
   };
+  // Made here (0700) or checked: a link, another user's directory or one others can write to is
+  // refused, before anything in it is read or removed.
+  std::call_once(opened_, [&] {
+    dir_ = OwnedDirectory(directory_, "the journal of this output", OwnedDirectory::Create::yes);
+  });
+  const std::string path = dir_.path_of("lock");
   // A run that finishes removes its lock file while holding it; one that we opened just before
-  // may then be gone, so the lock only counts if the file is still the one at `path`.
+  // may then be gone, so the lock only counts if the file is still the one named "lock".
   for (int attempt = 0; attempt < 100; ++attempt) {
-    std::error_code error;
-    if (fs::create_directory(directory_, error)) created_directory_ = true;
-    if (error) refuse(error.message());
-    int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0 && errno == ENOENT) continue;  // a finishing run removed the directory: again
+    int fd = ::openat(dir_.fd(), "lock", O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0 && errno == ENOENT) refuse("it was removed while this run started");
     if (fd < 0) refuse(path + ": " + errno_text(errno));
     if (int failure = try_lock(fd); failure != 0) {
       std::string holder(256, '\0');
@@ -214,7 +205,8 @@ void Journal::lock() {
       refuse(path + ": " + errno_text(failure));
     }
     struct stat held {}, named {};
-    if (::fstat(fd, &held) != 0 || ::stat(path.c_str(), &named) != 0 ||
+    if (::fstat(fd, &held) != 0 ||
+        ::fstatat(dir_.fd(), "lock", &named, AT_SYMLINK_NOFOLLOW) != 0 ||
         held.st_ino != named.st_ino || held.st_dev != named.st_dev) {
       ::close(fd);
       continue;
@@ -231,46 +223,41 @@ void Journal::lock() {
 
 JournalContents Journal::inspect() const {
   JournalContents contents;
-  std::error_code error;
-  contents.directory_exists = fs::is_directory(directory_, error);
+  contents.directory_exists = dir_.is_open();
   if (!contents.directory_exists) return contents;
-  contents.manifest = read_manifest(directory_ + "/manifest", contents.manifest_problem);
-  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
-       it.increment(error)) {
-    const std::string name = it->path().filename().string();
+  contents.manifest = read_manifest(dir_, contents.manifest_problem);
+  for (const std::string& name : dir_.names()) {
     if (name == "lock") continue;
-    if (name.rfind("block_", 0) == 0 && it->path().extension() == ".bin") ++contents.block_files;
-    std::error_code size_error;
-    const auto size = it->file_size(size_error);
-    if (!size_error) contents.bytes += static_cast<std::int64_t>(size);
+    if (name.rfind("block_", 0) == 0 && is_journal_entry(name) &&
+        name.substr(name.size() - 4) == ".bin")
+      ++contents.block_files;
+    struct stat status {};
+    if (::fstatat(dir_.fd(), name.c_str(), &status, AT_SYMLINK_NOFOLLOW) == 0 &&
+        S_ISREG(status.st_mode))
+      contents.bytes += static_cast<std::int64_t>(status.st_size);
   }
   return contents;
 }
 
 // Blocks first, the manifest last: a journal cut short at any point still names its run for as
-// long as it holds a block, and one without a manifest holds none.
+// long as it holds a block, and one without a manifest holds none. Only the journal's own names
+// are removed, one file at a time: never a directory, never through a link.
 void Journal::remove_blocks_then_manifest() const {
-  std::error_code error;
-  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
-       it.increment(error)) {
-    const auto name = it->path().filename();
-    std::error_code ignored;
-    if (name != "lock" && name != "manifest") fs::remove_all(it->path(), ignored);
-  }
-  fs::remove(directory_ + "/manifest", error);
-  if (error)
-    throw std::runtime_error("cannot clear the journal '" + directory_ + "': " + error.message());
+  for (const std::string& name : dir_.names())
+    if (name != "manifest" && is_journal_entry(name)) dir_.remove_file(name);
+  if (!dir_.remove_file("manifest"))
+    throw std::runtime_error("cannot clear the journal '" + directory_ + "': " +
+                             errno_text(errno));
 }
 
 void Journal::start(const JournalManifest& manifest) {
   remove_blocks_then_manifest();
-  fs::create_directories(directory_);
-  write_atomically(directory_ + "/manifest", manifest_text(manifest));
+  dir_.write_atomically("manifest", manifest_text(manifest));
   started_ = true;
 }
 
-std::string Journal::block_path(std::int64_t begin) const {
-  return directory_ + "/block_" + std::to_string(begin) + ".bin";
+std::string Journal::block_name(std::int64_t begin) {
+  return "block_" + std::to_string(begin) + ".bin";
 }
 
 void Journal::save(const BlockResults& block) const {
@@ -289,13 +276,12 @@ void Journal::save(const BlockResults& block) const {
   for (const auto& col : block.columns) put(col.data(), col.size() * sizeof(double));
   std::uint64_t sum = checksum(bytes.data(), bytes.size());
   put(&sum, sizeof sum);
-  write_atomically(block_path(block.range.begin), bytes);
+  dir().write_atomically(block_name(block.range.begin), bytes);
 }
 
 bool Journal::load(BlockResults& block) const {
-  std::ifstream in(block_path(block.range.begin), std::ios::binary);
-  if (!in) return false;
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  if (!dir().read_file(block_name(block.range.begin), bytes)) return false;
   std::size_t expected = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) +
                          block.columns.size() * sizeof(std::int64_t) + sizeof(std::uint64_t);
   for (const auto& col : block.columns) expected += col.size() * sizeof(double);
@@ -330,9 +316,15 @@ bool Journal::load(BlockResults& block) const {
 
 void Journal::remove() {
   remove_blocks_then_manifest();
-  std::error_code error;
-  fs::remove(directory_ + "/lock", error);
-  fs::remove(directory_, error);
+  dir_.remove_file("lock");
+  if (::rmdir(directory_.c_str()) != 0 && errno != ENOENT) {
+    const int error = errno;
+    std::string foreign;
+    for (const std::string& name : dir_.names()) foreign += (foreign.empty() ? "" : ", ") + name;
+    log("contactsweep: warning: the journal '{}' was not removed ({}){}{}", directory_,
+        errno_text(error), foreign.empty() ? "" : ": it holds files contactsweep did not make: ",
+        foreign);
+  }
   if (lock_fd_ >= 0) ::close(lock_fd_);
   lock_fd_ = -1;
 }

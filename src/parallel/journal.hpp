@@ -18,10 +18,12 @@
 #pragma once
 
 #include <cstdint>
+#include <mutex>
 #include <optional>
 #include <string>
 
 #include "engine/results.hpp"
+#include "io/owned_directory.hpp"
 
 namespace cs {
 
@@ -53,10 +55,11 @@ class Journal {
 
   const std::string& directory() const { return directory_; }
 
-  // Rank 0. Creates the directory when missing and locks it for this run: an open file
+  // Rank 0. Creates the directory (0700) when missing and locks it for this run: an open file
   // description lock, which the kernel releases however the process ends, so a killed run
   // never leaves a stale lock. Throws InputError naming the live holder when another run holds
-  // it, or when the journal cannot be opened.
+  // it, or when the journal cannot be opened or trusted (a link, another user's directory, one
+  // others can write to: io/owned_directory.hpp).
   void lock();
 
   // Rank 0, under the lock.
@@ -74,16 +77,19 @@ class Journal {
   bool load(BlockResults& block) const;
 
   // Rank 0, under the lock, after the output is durably in place: removes the journal, the
-  // lock last.
+  // lock last. Files the journal did not make stay (with a warning), and so does the directory.
   void remove();
 
  private:
-  std::string block_path(std::int64_t begin) const;
+  static std::string block_name(std::int64_t begin);
+  // The directory, checked once: by lock() on rank 0, on first use on the other ranks.
+  const OwnedDirectory& dir() const;
   void remove_blocks_then_manifest() const;
   std::string directory_;
   std::string run_id_;
+  mutable std::once_flag opened_;
+  mutable OwnedDirectory dir_;
   int lock_fd_ = -1;
-  bool created_directory_ = false;  // by lock(): removed again if the run never starts
   bool started_ = false;
 };
 

@@ -1,31 +1,60 @@
 #include "parallel/progress.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+
 #include "io/log.hpp"
 
 namespace cs {
 
 namespace {
-constexpr double kReportInterval = 5.0;  // seconds between lines
+
+// Between lines: 5 s, or CONTACTSWEEP_PROGRESS_SECONDS (a batch log may want fewer lines).
+std::chrono::duration<double> report_interval() {
+  if (const char* text = std::getenv("CONTACTSWEEP_PROGRESS_SECONDS")) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (end != text && *end == '\0' && seconds >= 0.01 && seconds <= 1e6)
+      return std::chrono::duration<double>(seconds);
+  }
+  return std::chrono::duration<double>(5.0);
 }
+
+}  // namespace
 
 ProgressReporter::ProgressReporter(std::int64_t local_points, std::int64_t total_points,
                                    std::int64_t steps, bool enabled)
-    : local_points_(local_points), total_points_(total_points), steps_(steps), enabled_(enabled) {}
-
-void ProgressReporter::add(std::int64_t points, bool computed) {
-  auto done = done_ += points;
-  auto integrated = computed ? computed_ += points : computed_.load();
+    : local_points_(local_points), total_points_(total_points), steps_(steps), enabled_(enabled) {
   if (!enabled_ || local_points_ == 0) return;
-  std::unique_lock lock(mutex_, std::try_to_lock);
-  if (!lock.owns_lock()) return;
-  if (std::chrono::duration<double>(Clock::now() - last_).count() < kReportInterval) return;
-  last_ = Clock::now();
-  report(done, integrated);
+  thread_ = std::thread([this, interval = report_interval()] {
+    std::unique_lock lock(mutex_);
+    while (!wake_.wait_for(lock, interval, [this] { return stop_; })) report();
+  });
 }
 
-void ProgressReporter::report(std::int64_t done, std::int64_t computed) {
-  const double fraction = static_cast<double>(done) / static_cast<double>(local_points_);
-  const double computed_fraction = static_cast<double>(computed) / static_cast<double>(local_points_);
+ProgressReporter::~ProgressReporter() {
+  if (!thread_.joinable()) return;
+  {
+    const std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void ProgressReporter::add(std::int64_t points, bool computed) {
+  done_ += points;
+  if (computed) computed_ += points;
+}
+
+void ProgressReporter::report() {
+  // Points of finished blocks, plus the running blocks' lane-steps as a share of a point's.
+  const double running = static_cast<double>(std::max<std::int64_t>(in_flight_steps_.load(), 0)) /
+                         static_cast<double>(std::max<std::int64_t>(steps_, 1));
+  const double local = static_cast<double>(local_points_);
+  const double fraction = std::min(1.0, (static_cast<double>(done_.load()) + running) / local);
+  const double computed_fraction =
+      std::min(1.0, (static_cast<double>(computed_.load()) + running) / local);
   const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
   const double rate =
       computed_fraction * static_cast<double>(total_points_) * static_cast<double>(steps_) / elapsed;

@@ -1,12 +1,16 @@
 // Progress reports on stderr from rank 0: percent done, trajectory-steps per second and ETA,
-// one line at a time so that a batch log stays readable. Other ranks hold equal shares of the
-// grid (round-robin blocks), so rank 0's share stands for the whole run.
+// one line every 5 s so that a batch log stays readable. Other ranks hold equal shares of the
+// grid (round-robin blocks), so rank 0's share stands for the whole run. Lines come from a
+// thread of their own, whatever the blocks do: a run of a few lanes over 10^15 steps is one
+// block, and its progress is counted inside it (the lane-steps its chunks integrate).
 #pragma once
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <thread>
 
 namespace cs {
 
@@ -14,19 +18,30 @@ class ProgressReporter {
  public:
   ProgressReporter(std::int64_t local_points, std::int64_t total_points, std::int64_t steps,
                    bool enabled);
+  ~ProgressReporter();
+  ProgressReporter(const ProgressReporter&) = delete;
+  ProgressReporter& operator=(const ProgressReporter&) = delete;
+
   // Thread-safe: called after each finished block; `computed` is false for a block a resume
   // loaded from the journal, which counts as done but not in the rate.
   void add(std::int64_t points, bool computed);
 
+  // Where running blocks count their lane-steps (BlockResults::in_flight_steps).
+  std::atomic<std::int64_t>* in_flight_steps() { return &in_flight_steps_; }
+
  private:
-  void report(std::int64_t done, std::int64_t computed);
+  void report();
   using Clock = std::chrono::steady_clock;
   std::int64_t local_points_, total_points_, steps_;
   bool enabled_;
   std::atomic<std::int64_t> done_{0};
   std::atomic<std::int64_t> computed_{0};
+  std::atomic<std::int64_t> in_flight_steps_{0};
+  Clock::time_point start_ = Clock::now();
   std::mutex mutex_;
-  Clock::time_point start_ = Clock::now(), last_ = Clock::now();
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
 };
 
 }  // namespace cs

@@ -269,6 +269,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       try {
         const std::int64_t n = blocks[i].range.end - blocks[i].range.begin;
         results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
+        results[i]->in_flight_steps = progress.in_flight_steps();
         const bool loaded = decision.start == Start::resume && journal.load(*results[i]);
         if (!loaded) {
           run_block(*blocks[i].plan, *results[i]);

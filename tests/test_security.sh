@@ -1,0 +1,297 @@
+#!/usr/bin/env bash
+# Trust on a shared machine (issue 22): what another user plants beside an output or in a kernel
+# cache is never followed, cleared, compiled in or loaded. As root (CI) the planting is done by a
+# second user and the victim is a third, both created here; without root the cases that need
+# them are reported as skipped (exit 77), the rest still run.
+#   test_security.sh CONTACTSWEEP COMPARE_OUTPUTS.PY
+# Last line: "N passed, M failed, K skipped"; exit 1 when any failed.
+set -uo pipefail
+bin=$(realpath "$1") compare=$(realpath "$2")
+export OMP_NUM_THREADS=1
+work=$(mktemp -d)
+chmod 755 "$work"  # the test users must reach their directories inside
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+passed=0 failed=0 skipped=0
+ok() { echo "ok    $1"; passed=$((passed + 1)); }
+bad() { echo "FAIL  $1${2:+: $2}"; sed 's/^/      /' "$work/stderr" 2>/dev/null | head -8; failed=$((failed + 1)); }
+skip() { echo "skip  $1 ($2)"; skipped=$((skipped + 1)); }
+same() { /usr/bin/python3 "$compare" "$1" "$2" >/dev/null 2>&1; }
+
+cat >k.toml <<'EOF'
+[scene]
+K = "p^2/2 + (q^2 - a^2)^2/2 - gamma*z"
+a = 1.0
+gamma = 0.1
+[integrator]
+h = 0.01
+t_end = 2.0
+[grid]
+q_0 = { from = -2.0, to = 2.0, n = 8 }
+p_0 = { from = -1.0, to = 1.0, n = 3 }
+[measures]
+final_state = true
+EOF
+sed 's|^K = .*|K = "p^2/2 + (q^2 - a^2)^2/4 - gamma*z"|' k.toml >k_other.toml
+
+# The reference: a private cache, nothing planted anywhere.
+export CONTACTSWEEP_CACHE=$work/cache
+"$bin" run k.toml -o ref.h5 --quiet 2>stderr || { bad "reference run"; exit 1; }
+lib=$(ls cache/kernel-*.so)  # k.toml's, the only one so far
+"$bin" run k_other.toml -o ref_other.h5 --quiet 2>stderr || { bad "reference run (other K)"; exit 1; }
+[[ $(stat -c %a cache) == 700 ]] && ok "the cache is created 0700" || bad "the cache is created 0700" "mode $(stat -c %a cache)"
+
+# ---- 1. the journal is never followed, nor cleared beyond its own names -------------------------
+make_precious() {
+  rm -rf precious && mkdir -p precious/sub && echo keep >precious/file && echo keep >precious/sub/file
+  echo keep >precious/block_0.bin
+}
+precious_intact() {
+  [[ -f precious/file && -f precious/sub/file && -f precious/block_0.bin ]]
+}
+for flags in "" "--force" "--resume"; do
+  make_precious
+  rm -rf out && mkdir out && ln -s ../precious out/map.h5.journal
+  "$bin" run k.toml -o out/map.h5 $flags --quiet 2>stderr
+  rc=$?
+  if ((rc == 2)) && precious_intact && grep -q "symbolic link" stderr && [[ ! -e out/map.h5 ]]; then
+    ok "a journal that is a link is refused (exit 2, ${flags:-no flag}), its target untouched"
+  else
+    bad "a journal that is a link is refused (${flags:-no flag})" "exit $rc"
+  fi
+done
+
+rm -rf out && mkdir out && mkdir -m 0777 out/map.h5.journal && echo keep >out/map.h5.journal/notes
+chmod 0777 out/map.h5.journal  # whatever the umask
+"$bin" run k.toml -o out/map.h5 --force --quiet 2>stderr
+rc=$?
+((rc == 2)) && [[ -f out/map.h5.journal/notes ]] && grep -q "others can write to it" stderr &&
+  ok "a journal others can write to is refused (exit 2), nothing in it removed" ||
+  bad "a journal others can write to is refused" "exit $rc"
+
+# Our own journal holding a file it did not make: the run finishes, the file stays, with a word.
+rm -rf out && mkdir out && mkdir -m 0700 out/map.h5.journal && mkdir out/map.h5.journal/mine &&
+  echo keep >out/map.h5.journal/notes.txt && echo keep >out/map.h5.journal/mine/file
+"$bin" run k.toml -o out/map.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 out/map.h5 && [[ -f out/map.h5.journal/notes.txt && -f out/map.h5.journal/mine/file ]] &&
+  [[ -z $(ls out/map.h5.journal | grep -v -e '^notes.txt$' -e '^mine$') ]] && grep -q "did not make" stderr &&
+  ok "clearing the journal removes only its own names (a foreign file and directory stay)" ||
+  bad "clearing the journal removes only its own names" "exit $rc"
+
+rm -rf out && mkdir out
+"$bin" run k.toml -o out/map.h5 --quiet --set integrator.t_end=1.0 2>stderr &&
+  [[ ! -e out/map.h5.journal ]] && ok "a finished run leaves no journal" || bad "a finished run leaves no journal"
+
+# The temporary output beside the output: a link planted there is not written through.
+make_precious
+rm -rf out && mkdir out && ln -s ../precious/file out/map.h5.partial
+"$bin" run k.toml -o out/map.h5 --quiet 2>stderr
+rc=$?
+[[ $(cat precious/file) == keep ]] && ((rc == 0)) && same ref.h5 out/map.h5 && [[ ! -e out/map.h5.partial ]] &&
+  ok "a link planted as OUT.h5.partial is removed, never written through" ||
+  bad "a link planted as OUT.h5.partial" "exit $rc, precious: $(cat precious/file | head -c 20)"
+
+# ---- 2-5. the kernel cache ----------------------------------------------------------------------
+other_lib=$(ls cache/kernel-*.so | grep -v "$lib")
+
+# Another K's kernel under this K's name, then a truncated one: rebuilt, right numbers.
+cp "$other_lib" "$lib"
+"$bin" run k.toml -o swapped.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 swapped.h5 && grep -q "built for another kernel" stderr &&
+  ok "another K's kernel under this K's name is rebuilt, not loaded (same bits as the reference)" ||
+  bad "another K's kernel under this K's name" "exit $rc"
+head -c 20000 "$lib" >truncated && cat truncated >"$lib"
+"$bin" run k.toml -o truncated.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 truncated.h5 && grep -q "not fit to load" stderr &&
+  ok "a kernel truncated to 20 kB is rebuilt (no SIGBUS, same bits)" || bad "a truncated kernel" "exit $rc"
+
+# A header planted in the cache (where the source used to be compiled) is not included.
+rm -rf cache_h && mkdir -m 0700 cache_h && mkdir -p cache_h/physics cache_h/engine
+for h in physics/dual_math.hpp engine/block_runner.hpp; do
+  echo '#error "a planted header was compiled in"' >cache_h/$h
+done
+CONTACTSWEEP_CACHE=$work/cache_h "$bin" run k.toml -o header.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 header.h5 && ok "headers planted in the cache are not compiled in" ||
+  bad "headers planted in the cache" "exit $rc"
+
+# A failed build's log name planted as a link: the build's log never goes through it.
+cat >failing_cxx <<EOF
+#!/bin/sh
+case "\$*" in *--version*) exec g++ --version ;; esac
+echo "a compiler that fails" >&2
+exit 3
+EOF
+chmod +x failing_cxx
+make_precious
+rm -rf cache_f && mkdir -m 0700 cache_f
+CONTACTSWEEP_CXX=$work/failing_cxx CONTACTSWEEP_CACHE=$work/cache_f "$bin" run k.toml -o f.h5 --quiet 2>stderr
+log=$(ls cache_f/kernel-*.log 2>/dev/null | head -1)
+if [[ -n $log ]]; then
+  rm -f "$log" && ln -s "$work/precious/file" "$log"
+  CONTACTSWEEP_CXX=$work/failing_cxx CONTACTSWEEP_CACHE=$work/cache_f "$bin" run k.toml -o f.h5 --quiet 2>stderr
+  rc=$?
+  ((rc == 1)) && [[ $(cat precious/file) == keep && -f $log && ! -L $log ]] && grep -q "a compiler that fails" stderr &&
+    ok "a link planted as the compiler's log is replaced, its target untouched (exit 1, the compiler's words)" ||
+    bad "a link planted as the compiler's log" "exit $rc"
+else
+  bad "a failed build keeps its log in the cache" "no kernel-*.log"
+fi
+
+# The compiler's identity is its --version output, not only its path.
+for v in A B; do
+  cat >cxx_$v <<EOF
+#!/bin/sh
+case "\$*" in *--version*) echo "g++ (version $v)"; exit 0 ;; esac
+exec g++ "\$@"
+EOF
+  chmod +x cxx_$v
+done
+rm -rf cache_v && mkdir -m 0700 cache_v
+ln -sf cxx_A cxx
+CONTACTSWEEP_CXX=$work/cxx CONTACTSWEEP_CACHE=$work/cache_v "$bin" run k.toml -o va.h5 --quiet 2>stderr
+ln -sf cxx_B cxx
+CONTACTSWEEP_CXX=$work/cxx CONTACTSWEEP_CACHE=$work/cache_v "$bin" run k.toml -o vb.h5 --quiet 2>>stderr
+n=$(ls cache_v/kernel-*.so 2>/dev/null | wc -l)
+((n == 2)) && same ref.h5 vb.h5 && ok "a compiler that reports another version builds its own kernel (2 libraries)" ||
+  bad "a compiler that reports another version" "$n libraries"
+
+# Headers other than the build's own snapshot are refused: an installed-looking copy of the
+# program whose header snapshot was changed afterwards (a newer build's, or an edit).
+rm -rf prefix && mkdir -p prefix/bin prefix/share/contactsweep
+cp "$bin" prefix/bin/contactsweep
+snapshot=$(dirname "$bin")/kernel_include
+cp -r "$snapshot" prefix/share/contactsweep/include
+rm -rf cache_s && mkdir -m 0700 cache_s
+CONTACTSWEEP_CACHE=$work/cache_s prefix/bin/contactsweep run k.toml -o s1.h5 --quiet 2>stderr
+rc1=$?
+echo "// edited after the build" >>prefix/share/contactsweep/include/physics/dual_math.hpp
+echo 0000 >prefix/share/contactsweep/include/HEADERS_SHA256
+rm -rf cache_s && mkdir -m 0700 cache_s
+CONTACTSWEEP_CACHE=$work/cache_s prefix/bin/contactsweep run k.toml -o s2.h5 --quiet 2>stderr
+rc2=$?
+((rc1 == 0 && rc2 == 1)) && same ref.h5 s1.h5 && [[ ! -e s2.h5 ]] && grep -q "not the ones this contactsweep was built with" stderr &&
+  ok "kernels compile only against the headers the program was built with (changed snapshot: exit 1)" ||
+  bad "headers other than the build's snapshot" "exit $rc1, $rc2"
+
+# ---- 12. a killed run leaves no compiler running, and its debris is cleaned -----------------------
+cat >slow_cxx <<EOF
+#!/bin/sh
+case "\$*" in *--version*) exec g++ --version ;; esac
+echo \$\$ >$work/compiler.pid
+sleep 60
+EOF
+chmod +x slow_cxx
+rm -rf cache_k && mkdir -m 0700 cache_k compiler.pid 2>/dev/null; rm -rf compiler.pid
+CONTACTSWEEP_CXX=$work/slow_cxx CONTACTSWEEP_CACHE=$work/cache_k "$bin" run k.toml -o killed.h5 --quiet 2>stderr &
+cs_pid=$!
+for _ in $(seq 100); do [[ -s compiler.pid ]] && break; sleep 0.1; done
+kill -9 $cs_pid; wait $cs_pid 2>/dev/null
+compiler_pid=$(cat compiler.pid 2>/dev/null)
+for _ in $(seq 30); do kill -0 "$compiler_pid" 2>/dev/null || break; sleep 0.1; done
+if [[ -n $compiler_pid ]] && ! kill -0 "$compiler_pid" 2>/dev/null; then
+  ok "the compiler dies with a killed run"
+else
+  bad "the compiler dies with a killed run" "pid ${compiler_pid:-?} still alive"
+  kill -9 "$compiler_pid" 2>/dev/null
+fi
+stale=$(ls -d cache_k/build.* 2>/dev/null | wc -l)
+CONTACTSWEEP_CACHE=$work/cache_k "$bin" run k.toml -o after_kill.h5 --quiet 2>stderr
+rc=$?
+left=$(ls -d cache_k/build.* 2>/dev/null | wc -l)
+((rc == 0 && stale == 1 && left == 0)) && same ref.h5 after_kill.h5 &&
+  ok "the killed build's private directory is removed by the next build" ||
+  bad "the killed build's private directory is removed" "exit $rc, $stale before, $left after"
+
+# umask 000: the cache and its libraries are still private.
+rm -rf cache_u
+(umask 000; CONTACTSWEEP_CACHE=$work/cache_u "$bin" run k.toml -o umask.h5 --quiet 2>stderr)
+modes=$(stat -c %a cache_u $(ls cache_u/kernel-*.so) | sort -u | tr '\n' ' ')
+[[ $modes == "600 700 " || $modes == "700 600 " ]] && ok "under umask 000 the cache is 0700 and its library 0600" ||
+  bad "under umask 000" "modes: $modes"
+
+# ---- as other users: a second uid plants, a third runs ------------------------------------------
+if ((EUID != 0)) || ! command -v useradd >/dev/null || ! command -v setpriv >/dev/null; then
+  skip "cases planted by another user" "needs root to create the users"
+  echo "$passed passed, $failed failed, $skipped skipped"
+  ((failed == 0)) || exit 1
+  exit 77
+fi
+for u in cs-sec-victim cs-sec-attacker; do
+  id -u $u >/dev/null 2>&1 || useradd --system --no-create-home --shell /usr/sbin/nologin $u
+done
+mkdir -p victim_home && chown cs-sec-victim: victim_home && usermod -d "$work/victim_home" cs-sec-victim
+vuid=$(id -u cs-sec-victim) auid=$(id -u cs-sec-attacker)
+as() { local u=$1; shift; setpriv --reuid="$(id -u "$u")" --regid="$(id -g "$u")" --clear-groups "$@"; }
+shared=$work/shared && mkdir -m 1777 "$shared" && chmod 1777 "$shared"
+cp k.toml ref.h5 "$shared/" && chmod 644 "$shared/k.toml" "$shared/ref.h5"
+
+# A planted kernel under the predictable cache of a job without HOME (the old /tmp fallback),
+# and in a cache others can write to, with a constructor that leaves a mark: never loaded.
+evil=$work/evil.c
+cat >"$evil" <<EOF
+#include <stdio.h>
+__attribute__((constructor)) static void planted(void) { FILE* f = fopen("$shared/PWNED", "w"); if (f) fclose(f); }
+EOF
+gcc -shared -fPIC -o "$work/evil.so" "$evil"
+rm -rf /tmp/.cache/contactsweep.test-planted
+as cs-sec-attacker mkdir -m 0777 "$shared/cache" && chmod 0777 "$shared/cache"
+as cs-sec-attacker cp "$work/evil.so" "$shared/cache/$(basename "$lib")"
+(cd "$shared" && as cs-sec-victim env -u HOME -u XDG_CACHE_HOME CONTACTSWEEP_CACHE="$shared/cache" \
+  "$bin" run k.toml -o victim1.h5 --quiet) 2>stderr
+rc=$?
+((rc == 2)) && [[ ! -e $shared/PWNED && ! -e $shared/victim1.h5 ]] && grep -q "kernel cache" stderr &&
+  ok "a kernel cache another user owns is refused (exit 2), the planted library never loaded" ||
+  bad "a kernel cache another user owns" "exit $rc"
+
+mkdir -m 0700 "$shared/vcache" && chown cs-sec-victim: "$shared/vcache" && chmod 0777 "$shared/vcache"
+as cs-sec-attacker cp "$work/evil.so" "$shared/vcache/$(basename "$lib")"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$shared/vcache" "$bin" run k.toml -o victim2.h5 --quiet) 2>stderr
+rc=$?
+((rc == 2)) && [[ ! -e $shared/PWNED ]] && grep -q "others can write to it" stderr &&
+  ok "the victim's own cache, writable by others, is refused (exit 2) with how to fix it" ||
+  bad "a cache others can write to" "exit $rc"
+
+# The victim's private cache holding a library another user owns (root planted it): rebuilt.
+chmod 0700 "$shared/vcache" && rm -f "$shared/vcache"/*
+cp "$work/evil.so" "$shared/vcache/$(basename "$lib")" && chown cs-sec-attacker: "$shared/vcache/$(basename "$lib")"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$shared/vcache" "$bin" run k.toml -o victim3.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && [[ ! -e $shared/PWNED ]] && same ref.h5 "$shared/victim3.h5" && grep -q "not to you" stderr &&
+  ok "a library another user owns in one's own cache is rebuilt, never loaded (same bits)" ||
+  bad "a library another user owns" "exit $rc"
+
+# No HOME: the cache is in the passwd entry's home, not in a directory anyone can create first.
+as cs-sec-attacker mkdir -p /tmp/.cache/contactsweep 2>/dev/null
+(cd "$shared" && as cs-sec-victim env -u HOME -u XDG_CACHE_HOME -u CONTACTSWEEP_CACHE "$bin" run k.toml -o victim4.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 "$shared/victim4.h5" && [[ -n $(ls victim_home/.cache/contactsweep/kernel-*.so 2>/dev/null) ]] &&
+  [[ $(stat -c %a victim_home/.cache) == 700 ]] &&
+  ok "without HOME the kernel cache is the passwd home's (~/.cache 0700), never /tmp/.cache" ||
+  bad "without HOME" "exit $rc"
+
+# The journal of an output in a shared directory, made first by another user.
+as cs-sec-attacker mkdir -m 0700 "$shared/map.h5.journal"
+as cs-sec-attacker sh -c "echo mine >'$shared/map.h5.journal/block_0.bin'"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$work/victim_home/.cache/contactsweep" "$bin" run k.toml -o map.h5 --force --quiet) 2>stderr
+rc=$?
+((rc == 2)) && [[ -f $shared/map.h5.journal/block_0.bin && ! -e $shared/map.h5 ]] && grep -q "belongs to user id $auid" stderr &&
+  ok "a journal another user made first is refused (exit 2), its files untouched" ||
+  bad "a journal another user made first" "exit $rc"
+
+# Another user's link as OUT.h5.partial in a sticky directory: the victim cannot remove it, so
+# the run is refused; the link's target (the victim's own file) is untouched.
+as cs-sec-victim sh -c "echo keep >'$shared/victim_file'"
+as cs-sec-attacker ln -s "$shared/victim_file" "$shared/out2.h5.partial"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$work/victim_home/.cache/contactsweep" "$bin" run k.toml -o out2.h5 --quiet) 2>stderr
+rc=$?
+((rc == 1)) && [[ $(cat "$shared/victim_file") == keep && ! -e $shared/out2.h5 ]] &&
+  ok "another user's link as OUT.h5.partial is refused (exit 1), its target untouched" ||
+  bad "another user's link as OUT.h5.partial" "exit $rc"
+
+echo "$passed passed, $failed failed, $skipped skipped"
+((failed == 0))
