@@ -283,7 +283,8 @@ TEST(HybridLeapfrog, LogLambdaDoesNotDependOnWhenTheFactorFolds) {
   const double bound = 2.0 * kSteps * 0x1p-53 + kSteps * 0x1p-64 * 1100.0 + 1e-12;
   const double difference = static_cast<double>(log_lambda<S>(every_step) - sum_of_logs);
   RecordProperty("difference", test::full_precision(difference));
-  EXPECT_LE(std::fabs(difference), bound) << log_lambda<S>(every_step) << " vs " << double(sum_of_logs);
+  EXPECT_LE(std::fabs(difference), bound)
+      << log_lambda<S>(every_step) << " vs " << static_cast<double>(sum_of_logs);
 }
 
 }  // namespace

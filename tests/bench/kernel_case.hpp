@@ -78,8 +78,8 @@ class TiledCase final : public KernelInstance {
       }
     };
     for (int d = 0; d < S::dof; ++d) mix(t.q[d]), mix(t.p[d]);
-    for (const double* v : {t.z, t.mu, t.lambda_numerator, t.lambda_denominator, t.lambda_folds,
-                            t.broken})
+    for (const double* v :
+         {t.z, t.mu, t.lambda_numerator, t.lambda_denominator, t.lambda_folds, t.broken})
       mix(v);
     return h;
   }
