@@ -19,6 +19,9 @@ bad() { echo "FAIL  $1"; sed 's/^/      /' "$work/stderr" 2>/dev/null | head -8;
 # check NAME COMMAND...: passes when COMMAND succeeds.
 check() { local name=$1; shift; if "$@" 2>"$work/stderr"; then ok "$name"; else bad "$name"; fi; }
 run() { "$bin" run "$@" --quiet; }
+# The kernel libraries in the cache, one line each: inode, mtime (ns) and path. Wherever the
+# cache puts them under CONTACTSWEEP_CACHE, they are named kernel-<key>.so.
+libraries() { find "$CONTACTSWEEP_CACHE" -name 'kernel-*.so' -printf '%i %T@ %p\n' 2>/dev/null | sort; }
 
 py() { /usr/bin/python3 -c "$1"; }
 
@@ -27,11 +30,15 @@ py() { /usr/bin/python3 -c "$1"; }
 # same dual numbers as the built-ins': K written in a built-in's order gives its exact bits.
 # (Another order rounds differently: ~1e-14 relative after 1e4 steps on scene D.)
 # same_data A B: every dataset of A equals B's bit for bit (NaN included); only root attributes
-# that say which scene ran (scene, K, spec, title, history, hamiltonian) may differ.
+# that say which scene ran (scene, K, spec, title, history, hamiltonian) may differ. A ran the
+# built-in and B a K: a K variant made by sed from a file whose line stopped matching would be
+# the built-in again, and compare it with itself.
 same_data() {
   py "
 import h5py, numpy as np
 a, b = h5py.File('$1'), h5py.File('$2')
+assert a.attrs['scene'] != 'custom', ('$1 ran a custom scene', a.attrs['scene'])
+assert b.attrs['scene'] == 'custom' and b.attrs['K'], ('$2 did not run its K', b.attrs['scene'])
 assert set(a) == set(b), (sorted(a), sorted(b))
 for v in a:
     x, y = a[v][...], b[v][...]
@@ -189,18 +196,37 @@ sed 's/- delta\*z/- delta*z + 0.001*q^3/' duffing.toml >race.toml
 "$bin" run race.toml -o race2.h5 2>race2.err & pid2=$!
 wait $pid1; rc1=$?; wait $pid2; rc2=$?
 built=$(cat race1.err race2.err | grep -c "built the kernel")
-if ((rc1 == 0 && rc2 == 0 && built == 1)) && [[ $(ls "$CONTACTSWEEP_CACHE"/*.so | wc -l) == 1 ]] &&
+if ((rc1 == 0 && rc2 == 0 && built == 1)) && [[ $(libraries | wc -l) == 1 ]] &&
    /usr/bin/python3 "$compare" race1.h5 race2.h5 2>"$work/stderr"; then
   ok "two processes building one K at once: one build, both run, same bits"
 else
-  echo "rc $rc1 $rc2, builds $built" >"$work/stderr"; cat race1.err race2.err >>"$work/stderr"
+  echo "rc $rc1 $rc2, builds $built, libraries: $(libraries)" >"$work/stderr"
+  cat race1.err race2.err >>"$work/stderr"
   bad "two processes building one K at once"
 fi
-# A cached kernel is not built again.
-run race.toml -o race3.h5 2>"$work/stderr"
-if ! grep -q "built the kernel" "$work/stderr" && "$bin" run race.toml -o race4.h5 2>&1 | grep -vq "built the kernel"; then
+# A cached kernel is loaded, not rebuilt: the library keeps its inode and mtime, no other library
+# appears, and the run does not say it built one (without --quiet, which would hide that line).
+before=$(libraries)
+"$bin" run race.toml -o race3.h5 2>"$work/stderr"
+rc=$?
+if ((rc == 0)) && [[ -n $before && $(libraries) == "$before" ]] && ! grep -q "built the kernel" "$work/stderr"; then
   ok "a cached kernel is loaded, not rebuilt"
-else bad "a cached kernel is loaded, not rebuilt"; fi
+else
+  echo "exit $rc; libraries before: ${before:-none}; after: $(libraries)" >>"$work/stderr"
+  bad "a cached kernel is loaded, not rebuilt"
+fi
+# ...and a kernel missing from the cache is built: a new library appears (another inode or
+# mtime than the one removed), and the run says so.
+find "$CONTACTSWEEP_CACHE" -name 'kernel-*.so' -delete
+"$bin" run race.toml -o race4.h5 2>"$work/stderr"
+rc=$?
+if ((rc == 0)) && [[ $(libraries | wc -l) == 1 && $(libraries) != "$before" ]] &&
+   grep -q "built the kernel" "$work/stderr"; then
+  ok "a kernel missing from the cache is built again"
+else
+  echo "exit $rc; libraries after: $(libraries)" >>"$work/stderr"
+  bad "a kernel missing from the cache is built again"
+fi
 
 # ---- lanes where K is NaN are flagged, the run succeeds ----------------------------------------
 cat >nan.toml <<'EOF'

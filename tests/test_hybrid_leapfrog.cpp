@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "numerics/hybrid_leapfrog.hpp"
@@ -236,27 +237,35 @@ TEST(HybridLeapfrog, LambdaFactorFoldsWholePowersOfTwo) {
 }
 
 // ln λ is read from the canonical (folds, factor): the same bits whether the kernel folded
-// after every step, every 64 or every 1000 steps, and the sum of the per-step logs it
-// replaced (round-off ~ steps·ulp) over a run where the factor folds twice.
+// after every step, every 64 or every 1000 steps, and it equals the sum of the logs of each
+// step's own factors a/b (long double) over a run where the factor folds twice. Those factors
+// come from a copy of the lane stepped with a product of 1, so the sum does not go through the
+// products, their folds or log_lambda at all.
 TEST(HybridLeapfrog, LogLambdaDoesNotDependOnWhenTheFactorFolds) {
   using S = PDependentForces;
   const ParamsOf<S, double> c{0.0, 1.0, 0.5};  // λ'/λ = γ(1 + δp²/2) ≥ 1: ln λ > 1000 by t = 1000
-  auto run = [&](int fold_every, double* sum_of_logs) {
+  constexpr int kSteps = 100000;
+  auto run = [&](int fold_every, long double* sum_of_logs) {
     auto x = lane<S>({1.0}, {0.0}, 1.0, 1.0, c);
     HybridLeapfrog::start<S>(x, c);
     const auto k = HybridLeapfrog::coefficients<S>(0.01, c, x);
-    for (int n = 0; n < 100000; ++n) {
-      const double before = log_lambda<S>(x);
+    for (int n = 0; n < kSteps; ++n) {
+      if (sum_of_logs != nullptr) {
+        auto fresh = x;  // this step's a and b alone: 1·a and 1·b are exact
+        fresh.lambda_numerator = 1.0, fresh.lambda_denominator = 1.0, fresh.lambda_folds = 0.0;
+        HybridLeapfrog::step<S, kAll>(fresh, c, k);
+        *sum_of_logs += std::log(static_cast<long double>(fresh.lambda_numerator)) -
+                        std::log(static_cast<long double>(fresh.lambda_denominator));
+      }
       HybridLeapfrog::step<S, kAll>(x, c, k);
       if ((n + 1) % fold_every == 0) {  // as the kernel does (engine/lane_tile.hpp)
         x.lambda_folds = x.lambda_folds + fold_power_of_two(x.lambda_numerator);
         x.lambda_folds = x.lambda_folds - fold_power_of_two(x.lambda_denominator);
       }
-      if (sum_of_logs != nullptr) *sum_of_logs += log_lambda<S>(x) - before;
     }
     return x;
   };
-  double sum_of_logs = 0.0;
+  long double sum_of_logs = 0.0L;
   const auto every_step = run(1, &sum_of_logs);
   const auto every_64 = run(64, nullptr), every_1000 = run(1000, nullptr);
   auto same_bits = [](double a, double b) {
@@ -265,8 +274,17 @@ TEST(HybridLeapfrog, LogLambdaDoesNotDependOnWhenTheFactorFolds) {
   EXPECT_GE(every_step.lambda_folds, 2);  // ln λ passed 355 and 710 (each product folds too)
   EXPECT_GT(log_lambda<S>(every_step), 1000.0);
   EXPECT_TRUE(same_bits(log_lambda<S>(every_step), log_lambda<S>(every_64)));
-  EXPECT_NEAR(log_lambda<S>(every_step), sum_of_logs, 1e5 * 0x1p-52 * std::fabs(sum_of_logs));
   EXPECT_TRUE(same_bits(log_lambda<S>(every_step), log_lambda<S>(every_1000)));
+  // The products of the a and of the b round once a step each: ≤ 2·steps·2⁻⁵³ in
+  // ln λ. log_lambda's own rounding (512 ln 2 · folds, two logs, one add) is a few ulp of
+  // ln λ ≈ 1e3 (~1e-13), and the long-double sum's ≤ steps·2⁻⁶⁴·|ln λ| ≈ 5e-12. Bound: 3e-11
+  // (measured: 7e-13). A log_lambda that dropped the denominator or a fold would be off
+  // by ≥ 1e2.
+  const double bound = 2.0 * kSteps * 0x1p-53 + kSteps * 0x1p-64 * 1100.0 + 1e-12;
+  const double difference = static_cast<double>(log_lambda<S>(every_step) - sum_of_logs);
+  RecordProperty("difference", test::full_precision(difference));
+  EXPECT_LE(std::fabs(difference), bound)
+      << log_lambda<S>(every_step) << " vs " << static_cast<double>(sum_of_logs);
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # An installed contactsweep builds a K kernel from its installed headers alone: install into a
-# fresh prefix and run a custom K from there (the installed headers come first, kernel_cache.cpp).
-#   test_install.sh CMAKE BUILD_DIR
-# Last line: "N passed, M failed".
+# fresh prefix and run a custom K from there (the installed headers come first, kernel_cache.cpp),
+# and its output has the bits of the build tree's program.
+#   test_install.sh CMAKE BUILD_DIR CONTACTSWEEP COMPARE_OUTPUTS.PY
+# Last line: "N passed, M failed"; exit status 1 if any failed.
 set -uo pipefail
-cmake=$1 build=$2
+cmake=$1 build=$2 built_bin=$(realpath "$3") compare=$(realpath "$4")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export CONTACTSWEEP_CACHE=$work/cache
@@ -32,12 +33,18 @@ if (cd "$work" && "$work/prefix/bin/contactsweep" run spec.toml -o out.h5) >"$wo
    grep -q "built the kernel of scene.K" "$work/log" && [[ -s $work/out.h5 ]]; then
   ok "the installed program builds and runs a K kernel"
 else bad "the installed program builds and runs a K kernel"; fi
+# The same spec with the build tree's program (a cache of its own, so it builds its own kernel).
+if (cd "$work" && CONTACTSWEEP_CACHE=$work/build_cache "$built_bin" run spec.toml -o build_tree.h5 --quiet) \
+     >"$work/log" 2>&1 && /usr/bin/python3 "$compare" "$work/build_tree.h5" "$work/out.h5" >>"$work/log" 2>&1; then
+  ok "the installed program's output equals the build tree's, bit for bit"
+else bad "the installed program's output equals the build tree's, bit for bit"; fi
 # The generated source compiles against the installed headers alone (no source tree on -I).
 mpi_dirs=()
 for d in $(mpicxx --showme:incdirs 2>/dev/null); do mpi_dirs+=("-isystem" "$d"); done
-source=$(ls "$work"/cache/kernel-*.cpp 2>/dev/null | head -1)
+source=$(find "$work/cache" -name 'kernel-*.cpp' 2>/dev/null | head -1)
 if [[ -n $source ]] && c++ -std=c++20 -fsyntax-only -I"$work/prefix/share/contactsweep/include" \
      "${mpi_dirs[@]}" "$source" >"$work/log" 2>&1; then
   ok "the kernel source needs only the installed headers"
 else bad "the kernel source needs only the installed headers"; fi
 echo "$passed passed, $failed failed"
+((failed == 0))

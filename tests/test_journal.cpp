@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <thread>
@@ -154,10 +155,85 @@ TEST_F(JournalTest, DamagedOrMismatchedBlockIsComputedAgain) {
   {
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(60);
-    f.put('\x7f');  // one byte of the payload
+    f.put('\x7f');  // the second column's size field (the payload starts at 64)
   }
   BlockResults loaded({0, 10}, columns());
   EXPECT_FALSE(journal.load(loaded));
+}
+
+// Bits flipped inside the payload, the file's size and every field before the payload intact:
+// only the checksum can tell, and it must refuse every one (first, middle and last byte of each
+// column, low and high bit). Columns of every kind the journal carries: float64 with and without
+// a time axis, the int8 and uint8 labels, an internal column. After each flip the good bytes are
+// put back and the block loads again, so it is the flip that was refused.
+TEST_F(JournalTest, ChecksumRefusesAnyPayloadByteFlipped) {
+  DatasetSpec final_q, traj_q, status, basin, settled;
+  final_q.name = "final_q";
+  traj_q.name = "traj_q";
+  traj_q.has_time_dim = true;
+  status.name = "status";
+  status.type = ElementType::int8;
+  basin.name = "basin";
+  basin.type = ElementType::uint8;
+  settled.name = "settle_point";
+  const std::vector<ColumnSpec> specs = {
+      {final_q, 1}, {traj_q, 4}, {status, 1}, {basin, 1}, {settled, 2, true}};
+  constexpr std::int64_t kBegin = 30, kEnd = 47;
+  BlockResults saved({kBegin, kEnd}, specs);
+  for (std::size_t c = 0; c < saved.columns.size(); ++c)
+    for (std::size_t i = 0; i < saved.columns[c].size(); ++i)
+      saved.columns[c][i] = c == 2 || c == 3 ? static_cast<double>((i + c) % 3)
+                                             : 0.1 * static_cast<double>(c) - 1.7 / (1.0 + i);
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  journal.save(saved);
+  const std::string path = journal.directory() + "/block_30.bin";
+  std::string good;
+  {
+    std::ifstream in(path, std::ios::binary);
+    good.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // magic, run id, (begin, end, columns), one size per column; then the payload; then the sum.
+  std::size_t offset = 8 + 16 + 3 * 8 + 8 * specs.size();
+  std::size_t payload_bytes = 0;
+  for (const auto& col : saved.columns) payload_bytes += col.size() * sizeof(double);
+  ASSERT_EQ(good.size(), offset + payload_bytes + 8);
+  auto write = [&](const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << bytes;
+  };
+  auto loads = [&] {  // load() alone: the checksum must refuse, not a comparison of values here
+    BlockResults loaded({kBegin, kEnd}, specs);
+    return journal.load(loaded);
+  };
+  auto loads_as_saved = [&] {
+    BlockResults loaded({kBegin, kEnd}, specs);
+    return journal.load(loaded) && loaded.columns == saved.columns;
+  };
+  ASSERT_TRUE(loads_as_saved());
+  int flips = 0;
+  for (std::size_t c = 0; c < saved.columns.size(); ++c) {
+    const std::size_t bytes = saved.columns[c].size() * sizeof(double);
+    for (std::size_t at : {offset, offset + bytes / 2 + 3, offset + bytes - 1}) {
+      for (unsigned char bit : {0x01, 0x80}) {
+        std::string bad = good;
+        bad[at] = static_cast<char>(bad[at] ^ bit);
+        write(bad);
+        ASSERT_EQ(fs::file_size(path), good.size());
+        EXPECT_FALSE(loads()) << "column " << c << ", byte " << at << ", bit " << int(bit);
+        write(good);
+        ASSERT_TRUE(loads_as_saved()) << "column " << c;
+        ++flips;
+      }
+    }
+    offset += bytes;
+  }
+  EXPECT_EQ(flips, 5 * 3 * 2);
+  std::string bad = good;  // the stored sum itself
+  bad[good.size() - 5] = static_cast<char>(bad[good.size() - 5] ^ 0x10);
+  write(bad);
+  EXPECT_FALSE(loads());
 }
 
 TEST_F(JournalTest, ManifestRecordsTheRunExactly) {

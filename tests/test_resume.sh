@@ -67,10 +67,11 @@ for fraction in 0.15 0.35 0.55 0.75 0.9; do
   job=$!
   sleep "$delay"
   pkill -9 -f -- "-o $name.h5" ; wait "$job" 2>/dev/null
-  journaled=$(ls "$name.h5.journal" 2>/dev/null | wc -l)
+  # Finished blocks only: the journal also holds its lock and manifest from the start.
+  journaled=$(find "$name.h5.journal" -maxdepth 1 -name 'block_*.bin' 2>/dev/null | wc -l)
   if [[ ! -e $name.h5 ]]; then
     ((journaled > 0)) && interrupted=$((interrupted + 1))
-    echo "$name: killed at $delay s, before the commit ($journaled journal files)"
+    echo "$name: killed at $delay s, before the commit ($journaled blocks journaled)"
   else
     echo "$name: killed at $delay s, after the commit"
   fi
@@ -87,8 +88,13 @@ done
 # blocks journaled and no output yet, or this part tested nothing.
 ((interrupted >= 2)) || fail "only $interrupted of 5 timed kills landed mid-run"
 
-# --resume of a finished output is a no-op; of another spec's output, a refusal (exit 2).
+# --resume of a finished output is a no-op (the file keeps its bytes and its mtime, no journal is
+# left); of another spec's output, a refusal (exit 2).
+before=$(stat -c '%y %s' reference.h5; sha256sum <reference.h5)
 "$bin" run "$spec" -o reference.h5 --resume "${args[@]}" || fail "resume of a complete run exited $?"
+after=$(stat -c '%y %s' reference.h5; sha256sum <reference.h5)
+[[ $after == "$before" && ! -e reference.h5.journal ]] ||
+  fail "resume of a complete run touched it: $before -> $after$(ls -d reference.h5.journal 2>/dev/null)"
 "$bin" run "$spec" -o reference.h5 --resume --quiet --set integrator.t_end=20 2>/dev/null
 [[ $? -eq 2 ]] || fail "resume with another spec was not refused with status 2"
 

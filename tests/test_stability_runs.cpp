@@ -12,8 +12,8 @@
 //    steps with ρⁿ |wᵀx₀| / ‖w‖₁ ≥ 10·kDivergenceBound carry every cell with wᵀx₀ ≠ 0 past the
 //    bound: t_end is that many steps (the most any cell needs). The origin is a fixed point of
 //    every method (wᵀx₀ = 0) and must stay unflagged, with no NaN anywhere, in the same run.
-// ε = 1e-3: the limits are known to ±0.5e-4 (relative 2.5e-5 ≪ ε), and the premises ρ < 1 below
-// and ρ > 1 above are asserted from the map before any run. At ε = 1e-3 (ω = 1, γ = 0.1):
+// ε = 1e-3: the limits are known to 1e-13 (≪ ε), and the premises ρ < 1 below and ρ > 1 above
+// are asserted from the map before any run. At ε = 1e-3 (ω = 1, γ = 0.1):
 //   method               h below   ρ below   h above   ρ above   steps (t_end = steps·h)
 //   hybrid_leapfrog      1.998     0.9462    2.002     1.0347     612
 //   symmetric_leapfrog   1.998     0.9462    2.002     1.0347     559
@@ -51,6 +51,7 @@
 #include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
 #include "support/run_in_memory.hpp"
+#include "support/stability_theory.hpp"
 
 namespace cs {
 namespace {
@@ -61,38 +62,39 @@ constexpr double kOk = static_cast<double>(LaneStatus::ok);
 constexpr double kDiverged = static_cast<double>(LaneStatus::diverged);
 constexpr double kBreakdown = static_cast<double>(LaneStatus::breakdown);
 
-// The limits of test_stability.cpp (there found by bisection on the same map, to 4 decimals).
+// The limits derived by tests/stability_theory.py (numpy, from the published schemes), which
+// test_stability.cpp finds on the code's own map to 1e-9.
 template <class M>
 struct Limit;
 template <>
 struct Limit<HybridLeapfrog> {
   static constexpr const char* name = "hybrid_leapfrog";
-  static constexpr double h = 2.0000;
+  static constexpr double h = test::stability_theory::kHybridLeapfrog;
 };
 template <>
 struct Limit<SymmetricLeapfrog> {
   static constexpr const char* name = "symmetric_leapfrog";
-  static constexpr double h = 2.0000;
+  static constexpr double h = test::stability_theory::kSymmetricLeapfrog;
 };
 template <>
 struct Limit<ContactSplitting2> {
   static constexpr const char* name = "contact_splitting2";
-  static constexpr double h = 2.0000;
+  static constexpr double h = test::stability_theory::kContactSplitting2;
 };
 template <>
 struct Limit<ContactSplitting4> {
   static constexpr const char* name = "contact_splitting4";
-  static constexpr double h = 1.5706;
+  static constexpr double h = test::stability_theory::kContactSplitting4;
 };
 template <>
 struct Limit<ContactSplitting6> {
   static constexpr const char* name = "contact_splitting6";
-  static constexpr double h = 2.8118;
+  static constexpr double h = test::stability_theory::kContactSplitting6;
 };
 template <>
 struct Limit<Rk4> {
   static constexpr const char* name = "rk4";
-  static constexpr double h = 2.9098;
+  static constexpr double h = test::stability_theory::kRk4;
 };
 
 // The grid of both scene A runs: q_0 slowest, then p_0. Cell 4 is the origin.

@@ -40,12 +40,12 @@ from matplotlib.patches import Patch  # noqa: E402
 ROOT = Path(__file__).resolve().parents[2]
 SWEEPS = ROOT / "sweeps"
 
-# Linear stability limits on the oscillator at omega = 1, gamma = 0.1, from the eigenvalues of each
-# method's one-step map (tests/test_stability.cpp); drawn next to the measured ones.
+# Linear stability limits on the oscillator at omega = 1, gamma = 0.1, derived from the published
+# schemes by tests/stability_theory.py (which checks these 4-decimal tables, ctest
+# stability_theory); drawn next to the measured ones.
 THEORY_LIMIT_A = {"hybrid_leapfrog": 2.0, "symmetric_leapfrog": 2.0, "contact_splitting2": 2.0,
                   "contact_splitting4": 1.5706, "contact_splitting6": 2.8118, "rk4": 2.9098}
-# The same first limit at the ends of the gamma axis (the same one-step maps,
-# tests/support/linear_step_map.hpp, scanned in steps of 1e-4 and bisected). Beyond it:
+# The same first limit at the ends of the gamma axis (tests/stability_theory.py as well). Beyond it:
 # contact_splitting4 at gamma = 0.5 is stable again on [3.1350, 3.1637]; contact_splitting6 at
 # gamma = 0 is unstable only on [2.2691, 2.3278] below 2.8173, and stable again on [3.1698, 3.2332].
 THEORY_LIMITS = {

@@ -8,10 +8,16 @@
 // peak (FMAs per second per core, a vector FMA counted once per lane) measured just before, and
 // roofline_fma_units the same with multiplies and FMAs alone (kernel_instance.hpp, StepOps).
 // jobs/bench_kernel.sh runs it with repetitions and prints the medians as a table.
+//
+// Before timing anything it runs every case once on every path this CPU has and compares the
+// lanes' final states bit for bit (KernelInstance::checksum): the same bits at any vector width
+// is what -ffp-contract=off and std::fma buy (ARCHITECTURE.md). Exit status 1 if a path differs.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "kernel_instance.hpp"
 
@@ -52,6 +58,43 @@ void run_case(benchmark::State& state, const KernelCase& c, double (*fma_peak)(d
   }
 }
 
+// Every case once on every supported path: true when all paths end in the same bits as the first.
+bool same_bits_on_every_path(const IsaPath* paths, const bool* supported, int n) {
+  int first = -1, compared = 0, differing = 0;
+  for (int i = 0; i < n; ++i)
+    if (supported[i] && first < 0) first = i;
+  const std::vector<KernelCase> reference = paths[first].cases();
+  std::vector<std::uint64_t> expected;
+  for (const KernelCase& c : reference) {
+    auto kernel = c.make();
+    kernel->run_trajectory();
+    expected.push_back(kernel->checksum());
+  }
+  for (int i = first + 1; i < n; ++i) {
+    if (!supported[i]) continue;
+    const std::vector<KernelCase> cases = paths[i].cases();
+    if (cases.size() != reference.size()) {
+      std::fprintf(stderr, "kernel_bench: FAIL: %s has %zu cases, %s %zu\n", paths[i].name.c_str(),
+                   cases.size(), paths[first].name.c_str(), reference.size());
+      return false;
+    }
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      auto kernel = cases[k].make();
+      kernel->run_trajectory();
+      ++compared;
+      if (kernel->checksum() != expected[k]) {
+        ++differing;
+        std::fprintf(stderr, "kernel_bench: FAIL: %s/%s/%s/W%d: %s ends in other bits than %s\n",
+                     cases[k].scene.c_str(), cases[k].method.c_str(), cases[k].state.c_str(),
+                     cases[k].width, paths[i].name.c_str(), paths[first].name.c_str());
+      }
+    }
+  }
+  std::fprintf(stderr, "kernel_bench: same bits: %d of %d case runs on other paths equal %s's\n",
+               compared - differing, compared, paths[first].name.c_str());
+  return differing == 0;
+}
+
 void peak_run(benchmark::State& state, double (*fma_peak)(double)) {
   double peak = 0.0;
   for (auto _ : state) peak = fma_peak(0.05);
@@ -68,6 +111,7 @@ int main(int argc, char** argv) {
   // "native" is the product's build (-march=native): what contactsweep runs on this machine.
   const IsaPath paths[] = {avx2::path(), avx512_256::path(), avx512::path(), native::path()};
   const bool supported[] = {has_avx2(), has_avx512(), has_avx512(), true};
+  const bool same_bits = same_bits_on_every_path(paths, supported, 4);
   for (int i = 0; i < 4; ++i) {
     const IsaPath& path = paths[i];
     if (!supported[i]) {
@@ -86,5 +130,5 @@ int main(int argc, char** argv) {
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  return 0;
+  return same_bits ? 0 : 1;
 }

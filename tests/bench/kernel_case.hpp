@@ -8,6 +8,7 @@
 // whichever ISA's object came first, and could run AVX-512 code on an AVX2 machine.
 #pragma once
 
+#include <cstdint>
 #include <cstring>
 #include <memory>
 
@@ -56,16 +57,33 @@ class TiledCase final : public KernelInstance {
       kernel_chunk(t, chunk_, params_, coef_, h_);
       for (int i = 0; i < W; ++i) t.steps_done[i] += chunk_;
     }
-    sum_ = 0.0;
-    for (int i = 0; i < W; ++i) sum_ += t.q[0][i];
+    hash_ = state_hash(t);
     std::memcpy(static_cast<void*>(tile_.get()), initial_.get(), sizeof(Tile));
   }
 
   long lane_steps_per_trajectory() const override { return static_cast<long>(W) * steps_; }
 
-  double checksum() const override { return sum_; }
+  std::uint64_t checksum() const override { return hash_; }
 
  private:
+  // FNV-1a over the bits of every lane's whole state: any lane differing in any bit of q, p, z,
+  // ln λ's parts or its breakdown flag changes it.
+  static std::uint64_t state_hash(const Tile& t) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](const double* v) {
+      for (int i = 0; i < W; ++i) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &v[i], sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+      }
+    };
+    for (int d = 0; d < S::dof; ++d) mix(t.q[d]), mix(t.p[d]);
+    for (const double* v :
+         {t.z, t.mu, t.lambda_numerator, t.lambda_denominator, t.lambda_folds, t.broken})
+      mix(v);
+    return h;
+  }
+
   [[gnu::noinline, gnu::flatten]] static void kernel_chunk(Tile& t, int steps, const Params& c,
                                                            const Coef& k, double h) {
     advance<S, Method, carry, true>(t, steps, c, k, 0.0, h, [](int) {});
@@ -74,7 +92,8 @@ class TiledCase final : public KernelInstance {
   std::unique_ptr<Tile> tile_, initial_;
   Params params_;
   Coef coef_{};
-  double h_, sum_ = 0.0;
+  double h_;
+  std::uint64_t hash_ = 0;
   int steps_, chunk_;
 };
 

@@ -2,6 +2,7 @@
 // compiled for: one ISA path's compiled kernel on its own tile of lanes.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -17,7 +18,9 @@ class KernelInstance {
   // range a run sees (no decay into subnormals over millions of steps).
   virtual void run_trajectory() = 0;
   virtual long lane_steps_per_trajectory() const = 0;
-  virtual double checksum() const = 0;  // keeps the results observable
+  // The bits of every lane's state after the last trajectory: the same on every ISA path (and
+  // keeps the results observable).
+  virtual std::uint64_t checksum() const = 0;
 };
 
 // Floating-point operations per lane-step in the compiled step loop, counted with objdump (README,
