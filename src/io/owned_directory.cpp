@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -131,11 +132,14 @@ bool OwnedDirectory::remove_file(const std::string& name) const {
   return ::unlinkat(fd_, name.c_str(), 0) == 0 || errno == ENOENT;
 }
 
-void OwnedDirectory::write_atomically(const std::string& name, const std::string& bytes) const {
+void OwnedDirectory::write_atomically(const std::string& name, const std::string& bytes,
+                                      bool shared) const {
   // One writer per name: a temporary left by a killed writer is ours to replace (nobody else
   // can write here), and O_EXCL then proves the new one is the file we write.
-  const std::string tmp = name + ".tmp";
-  ::unlinkat(fd_, tmp.c_str(), 0);
+  static std::atomic<unsigned> writes{0};
+  const std::string tmp =
+      shared ? fmt::format("{}.tmp.{}.{}", name, ::getpid(), writes++) : name + ".tmp";
+  if (!shared) ::unlinkat(fd_, tmp.c_str(), 0);
   const int fd = ::openat(fd_, tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
                           0600);
   if (fd < 0) throw std::runtime_error("cannot create " + path_of(tmp) + ": " + errno_text(errno));

@@ -50,8 +50,10 @@ class OwnedDirectory {
 
   // Writes `bytes` to `name` so that `name` either keeps its old content or holds all of them:
   // a fresh temporary `name`.tmp (O_EXCL, no link followed), fsync, rename. One writer per
-  // name at a time. Throws std::runtime_error.
-  void write_atomically(const std::string& name, const std::string& bytes) const;
+  // name at a time, unless `shared`: then each writer's temporary has a name of its own (and
+  // one a killed writer left stays). Throws std::runtime_error.
+  void write_atomically(const std::string& name, const std::string& bytes,
+                        bool shared = false) const;
 
   // The whole content of the regular file `name`, opened without following a link; false when
   // it is missing, not a regular file, not this user's or unreadable.

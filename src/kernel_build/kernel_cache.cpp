@@ -159,13 +159,30 @@ int run_program(const std::vector<std::string>& args, int output_fd,
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-// The compiler's identity as it reports it (`--version`): an upgraded compiler under the same
-// path builds another key. Asked once per process and compiler (~1 ms).
-std::string compiler_identity(const std::string& compiler) {
-  static std::mutex mutex;
-  static std::map<std::string, std::string> known;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (auto it = known.find(compiler); it != known.end()) return it->second;
+// The compiler's file as found on PATH: its path and what the file system says of it (device,
+// inode, size, modification and change times), or "" when it is not found. An upgrade or a
+// switch of the symlink g++ -> g++-N changes it; the change time cannot be set back by anyone.
+std::string compiler_file_signature(const std::string& compiler) {
+  std::vector<std::string> candidates;
+  if (compiler.find('/') != std::string::npos) {
+    candidates.push_back(compiler);
+  } else {
+    for (const std::string& dir : split(env_or("PATH", "/usr/bin:/bin"), ':'))
+      candidates.push_back(dir + "/" + compiler);
+  }
+  for (const std::string& path : candidates) {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
+        ::access(path.c_str(), X_OK) == 0)
+      return fmt::format("{} {} {} {} {}.{} {}.{}", path, status.st_dev, status.st_ino,
+                         status.st_size, status.st_mtim.tv_sec, status.st_mtim.tv_nsec,
+                         status.st_ctim.tv_sec, status.st_ctim.tv_nsec);
+  }
+  return {};
+}
+
+// Runs `compiler --version` and returns what it prints.
+std::string ask_version(const std::string& compiler) {
   int out[2];
   if (::pipe2(out, O_CLOEXEC) != 0)
     throw std::runtime_error("cannot ask the compiler its version: " + errno_text(errno));
@@ -193,7 +210,36 @@ std::string compiler_identity(const std::string& compiler) {
   if (status != 0)
     throw std::runtime_error(fmt::format("the C++ compiler '{}' failed to tell its version "
                                          "(exit status {}): {}", compiler, status, text));
-  return known[compiler] = text;
+  return text;
+}
+
+// The compiler's identity as it reports it (`--version`): an upgraded compiler under the same
+// path builds another key. Starting a compiler costs milliseconds, so the answer is kept in the
+// cache under the signature of the compiler's file and asked again only when that changes.
+std::string compiler_identity(const std::string& compiler) {
+  static std::mutex mutex;
+  static std::map<std::string, std::string> known;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const std::string signature = compiler_file_signature(compiler);
+  const std::string memo_key = compiler + '\0' + signature;
+  if (auto it = known.find(memo_key); it != known.end()) return it->second;
+  const std::string memo = fmt::format("compiler-{:016x}.id", fnv1a(memo_key));
+  OwnedDirectory cache;
+  try {
+    if (!signature.empty())
+      cache = OwnedDirectory(kernel_cache_directory(), kCachePurpose, OwnedDirectory::Create::no);
+  } catch (const InputError&) {  // an untrusted cache: refused where it is used, not here
+  }
+  std::string text;
+  if (cache.is_open() && cache.read_file(memo, text)) return known[memo_key] = text;
+  text = ask_version(compiler);
+  if (cache.is_open()) {
+    try {
+      cache.write_atomically(memo, text, /*shared=*/true);
+    } catch (const std::exception&) {  // only a memo: asked again next time
+    }
+  }
+  return known[memo_key] = text;
 }
 
 // Where the user's home is: HOME, else the passwd entry's (batch jobs may have no HOME).
