@@ -1,11 +1,15 @@
 // scene.K, a contact Hamiltonian written in the spec (src/formula/k_formula.hpp): what it means
 // (grammar, exact numbers), what the kernel learns from it (traits), what is refused and how,
 // and the scene header generated from it. Compiling the generated headers needs the run-time
-// compiler; here the text is checked, and evaluate_k (GiNaC, 40 digits) is the reference.
+// compiler; here the text is checked, and evaluate_k (GiNaC and CLN, correctly rounded) is the reference.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -165,6 +169,12 @@ const BadCase kBadCases[] = {
     {"1/0 + q", {"division by zero at column 2"}},
     {"log(0)*q", {"log(0) at column 1", "no finite value"}},
     {"q + 1e400", {"1e400 at column 5", "range"}},
+    // constants: exact to the double, or refused (issue 22, item 7)
+    {"exp(exp(exp(9)))*q + p", {"the constant exp(exp(exp(9)))", "beyond the range of a double"}},
+    {"exp(exp(700))*q + p", {"exp(exp(700))", "beyond the range of a double"}},
+    {"p + exp(1000)*q", {"exp(1000)", "beyond the range of a double"}},
+    {"sin(exp(1e5))*q + p", {"sin(exp(100000))", "cannot be evaluated to double precision"}},
+    {"asin(1 + 1e-50)*q + p", {"asin(1 + 1e-50) at column 1", "not real"}},
     {"q*1e-400", {"1e-400", "smallest"}},
     {"p + lambda*q", {"lambda", "column 5"}},
     {"p + h*q", {"h at column 5", "step"}},
@@ -249,6 +259,76 @@ TEST(KFormulaPrecision, LiteralsAreTheNearestDouble) {
                               "9007199254740992.0 * q<0>(x)",   // 2^53 + 1: a tie, to even
                               "9007199254740994.0 * p<0>(x)"})  // just above the tie
     EXPECT_NE(h.find(literal), std::string::npos) << literal << " not in: " << h;
+}
+
+// Constant sub-expressions are folded to the double nearest to their exact value, however large
+// their arguments (GiNaC's evalf at 40 digits compiled sin(1e300) as 0.0 and cos(1e100) as 1.0;
+// CLN's exp wraps its exponent: exp(exp(700)) was 1.0). Expected values: an independent
+// reference, tests/support/fold_reference.py (Python's decimal module at 2900 digits, no CLN).
+struct FoldCase {
+  std::string constant;
+  double expected;
+};
+
+// The exact decimal of an integral double (glibc's printf prints every digit).
+std::string exact_integer(double x) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.0f", x);
+  return buf;
+}
+
+std::string shortest(double x) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  std::string s(buf, end);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+TEST(KFormulaPrecision, ConstantsAreTheNearestDoubleOfTheirExactValue) {
+  const double muller = 6381956970095103 * 0x1p797;  // the double nearest a multiple of π/2
+  const FoldCase cases[] = {
+      {"sin(1e22)", -0x1.b453ab76bf397p-1},  // -0.8522008497671888, the classic reduction test
+      {"sin(1e300)", -0x1.f8b4479c29f0cp-1},  // 10^300 exactly: not std::sin(1e300)
+      {"cos(1e100)", -0x1.db2d8d2c9c2bcp-1},
+      {"cos(1e22)", 0x1.0be2cef01c8f4p-1},
+      {"tan(1e300)", 0x1.770b950ff4191p+2},
+      {"sin((2^62)^16*2^31)", 0x1.205248cbdb760p-1},  // 2^1023
+      {"sin(exp(exp(5)))", 0x1.ea42836ed727bp-1},     // sin(2.5e64)
+      {"exp(700.5)", 0x1.8625c7d4f56c2p+1010},
+      {"sinh(700)", 0x1.d945df4f8ec8ep+1008},
+      {"log(3)", 0x1.193ea7aad030bp+0},
+      {"1 - cos(1e-10)", 0x1.79ca10c924223p-68},  // cancellation: 5e-21
+      {"exp(-740)", 0x0.0000000000055p-1022},      // subnormal: 85 · 2^-1074
+      {"exp(-745.1)", 0x0.0000000000001p-1022},
+      {"4.2e-322", 0x0.0000000000055p-1022},  // a subnormal literal (was 2e-323)
+      // arguments that are doubles, written as their exact decimals
+      {"sin(" + exact_integer(1e300) + ")", -0x1.a2c16b010e385p-1},
+      {"cos(" + exact_integer(1e300) + ")", -0x1.2699022adc4c1p-1},
+      {"sin(" + exact_integer(1e100) + ")", -0x1.85c5e5b929359p-2},
+      {"cos(" + exact_integer(1.7976931348623157e308) + ")", -0x1.fffe62ecfab75p-1},
+      {"cos(" + exact_integer(muller) + ")", -0x1.14ae72e6ba22fp-61},  // glibc: 1 ulp off
+      {"sin(" + exact_integer(muller) + ")", 1.0},
+      // underflow is a value; values that are exactly 0 or 1
+      {"exp(-1e300)", 0.0},
+      {"1/exp(1000)", 0.0},
+      {"exp(1000)*exp(-1000)", 1.0},
+      {"(sqrt(2) + 1)*(sqrt(2) - 1)", 1.0},
+      {"sin(pi/7) - cos(5*pi/14)", 0.0},
+      {"tanh(1e300)", 1.0},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.constant);
+    KFormula f = parse_k("(" + c.constant + ")*q + p");
+    const double folded = evaluate_k(f, {{"q", 1.0}, {"p", 0.0}});
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(folded), std::bit_cast<std::uint64_t>(c.expected))
+        << std::hexfloat << folded << " != " << c.expected;
+    const std::string code = body(scene_header(f, "Folded"));
+    EXPECT_NE(code.find("return " + shortest(c.expected) + " * q<0>(x) + p<0>(x)"), std::string::npos) << code;
+  }
+  // glibc reduces sin's argument exactly too: an independent check where it rounds correctly
+  for (double x : {1e22, 1e100, 1e300, 0x1p1023, 1.7976931348623157e308})
+    EXPECT_EQ(evaluate_k(parse_k("sin(" + exact_integer(x) + ")*q + p"), {{"q", 1.0}, {"p", 0.0}}), std::sin(x)) << x;
 }
 
 // GiNaC's value at random points against the formula written in double arithmetic.

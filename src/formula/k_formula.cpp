@@ -67,10 +67,8 @@ double evaluate_k(const KFormula& f, const std::map<std::string, double>& values
     substitutions[symbol] = exact_of(value->second);
   }
   try {
-    DigitsGuard digits;
-    ex v = e.subs(substitutions).evalf();
-    if (!is_a<numeric>(v) || !ex_to<numeric>(v).is_real()) return std::numeric_limits<double>::quiet_NaN();
-    return double_of(ex_to<numeric>(v));
+    const ConstantValue v = constant_value(e.subs(substitutions));
+    return v.kind == ConstantValue::finite ? v.value : std::numeric_limits<double>::quiet_NaN();
   } catch (const std::exception&) {
     return std::numeric_limits<double>::quiet_NaN();  // a pole: 1/q at q = 0
   }

@@ -70,8 +70,8 @@ std::string scene_header(const KFormula& f, const std::string& struct_name);
 std::vector<std::string> parameter_fields(const KFormula& f);
 
 // K, or its partial derivative by the variable named `wrt` ("q", "p2", "z", "t"), evaluated with
-// GiNaC at 40 digits from the exact values of the doubles given and rounded to the nearest
-// double: a reference for checks of the compiled scene. `values` must hold every variable and
+// GiNaC and CLN from the exact values of the doubles given, at as many digits as it takes to round
+// to the nearest double (as constants of K are folded): a reference for checks of the compiled scene. `values` must hold every variable and
 // parameter K depends on (an InputError names a missing one); NaN where K is not real or finite.
 double evaluate_k(const KFormula& f, const std::map<std::string, double>& values,
                   const std::string& wrt = "");

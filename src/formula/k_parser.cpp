@@ -1,5 +1,7 @@
 // scene.K's lexer and parser: the text to a tree as written and its GiNaC expression, with
 // the column of every error. The grammar, and why GiNaC's own parser is not used: k_formula.hpp.
+#include <cln/rational.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -106,6 +108,17 @@ bool even_mantissa(double x) {
 // own conversion is only the starting guess: its neighbours are compared exactly.
 double nearest_double(const numeric& r) {
   if (r.is_zero()) return 0.0;
+  // Below the smallest normal double the doubles are k·2^−1074: k is r·2^1074 rounded, exactly
+  // (CLN's conversion flushes these to 0, and 4.2e-322 is 85 steps away from there).
+  const numeric subnormal_unit = numeric(1) / numeric(2).power(1074);
+  if (abs(r) < exact_of(std::numeric_limits<double>::min())) {
+    const numeric scaled = abs(r) / subnormal_unit;
+    numeric k(cln::floor1(cln::the<cln::cl_RA>(scaled.to_cl_N())));
+    const numeric rest = scaled - k;
+    if (rest > numeric(1, 2) || (rest == numeric(1, 2) && k.is_odd())) k = k + 1;
+    const double x = std::ldexp(k.to_double(), -1074);
+    return r < 0 ? -x : x;
+  }
   double x = r.to_double();
   if (!std::isfinite(x)) x = r > 0 ? std::numeric_limits<double>::max() : -std::numeric_limits<double>::max();
   constexpr double inf = std::numeric_limits<double>::infinity();
@@ -132,9 +145,6 @@ double nearest_double(const numeric& r) {
   }
   return x;
 }
-
-// The nearest double of a real numeric (exact rationals exactly; CLN floats by CLN).
-double double_of(const numeric& n) { return n.is_rational() ? nearest_double(n) : n.to_double(); }
 
 // The shortest decimal that reads back as x, always with a '.' or an exponent (a double literal).
 std::string double_literal(double x) {
@@ -397,9 +407,11 @@ class Parser {
     if (e.has(GiNaC::I)) fail(message);
     for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
       if (is_a<GiNaC::symbol>(*it)) return;
-    DigitsGuard digits;
-    ex v = e.evalf();
-    if (is_a<numeric>(v) && !ex_to<numeric>(v).is_real()) fail(message);
+    // A constant beyond the double range is judged where it is folded (scene_codegen.cpp): it may
+    // be part of a constant that is not (1/exp(1000) is 0.0).
+    const ConstantValue v = constant_value(e);
+    if (v.kind == ConstantValue::not_real) fail(message);
+    if (v.kind == ConstantValue::pole) fail(excerpt + " at " + at(from) + " " + constant_problem(v.kind));
   }
 
   void enter(std::size_t offset) {

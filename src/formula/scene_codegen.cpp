@@ -94,20 +94,11 @@ std::string to_string(const ex& e) {
   return os.str();
 }
 
-// The nearest double of a constant (exact for rationals, from 40 digits otherwise); refused when
-// it is not a finite real double.
-double constant_value(const ex& e) {
-  double x;
-  if (auto r = rational_of(e)) {
-    x = nearest_double(*r);
-  } else {
-    DigitsGuard digits;
-    ex v = e.evalf();
-    if (!is_a<numeric>(v) || !ex_to<numeric>(v).is_real()) fail(to_string(e) + " is not a real number");
-    x = double_of(ex_to<numeric>(v));
-  }
-  if (!std::isfinite(x)) fail("the constant " + to_string(e) + " is beyond the range of a double");
-  return x;
+// The nearest double of a constant (k_constant.cpp); refused when it is not a finite real double.
+double folded(const ex& e) {
+  const ConstantValue v = constant_value(e);
+  if (v.kind != ConstantValue::finite) fail("the constant " + to_string(e) + " " + constant_problem(v.kind));
+  return v.value;
 }
 
 // C++ for the tree as written: one operation per operation of K, in its order (left to right),
@@ -128,7 +119,7 @@ class CodeGen {
   }
 
   Code gen(const Node& n) const {
-    if (is_constant(n.value)) return literal(constant_value(n.value));
+    if (is_constant(n.value)) return literal(folded(n.value));
     switch (n.kind) {
       case Node::name: return {names_.at(n.text), kAtom, true};
       case Node::neg: return {"-" + wrap(gen(*n.a), kUnary), kUnary};

@@ -1,0 +1,231 @@
+// The value of a constant sub-expression of scene.K (no variable, no parameter) as the double
+// nearest to its exact value, or why it has none.
+//
+// GiNaC's evalf() at a fixed precision is not enough: sin(1e300) at 40 digits reduces an
+// argument known to 40 digits modulo 2π (it gave 0.0), and CLN's exp() wraps its exponent
+// silently for huge arguments (exp(exp(700)) gave 1.0). So constants are evaluated here, node by
+// node, with CLN floats at a working precision that doubles until two successive values agree
+// well enough that every number between them rounds to the same double (Ziv's strategy):
+//   * sin, cos and tan are not evaluated until the precision covers the argument's size (the
+//     reduction modulo 2π keeps 64 bits beyond the double's 53), so sin(1e300) waits for the
+//     ~1000 bits its reduction needs;
+//   * a value beyond 2^1000000 in magnitude is "beyond the range of a double" before CLN sees
+//     it, and one below 2^-1000000 is 0 (an underflow is a value: exp(-1e300) is 0.0; its sign
+//     is not kept);
+//   * at 5120 digits without an answer the constant is refused (sin(exp(1e5)), or a value that
+//     is exactly half-way between two doubles without being a rational GiNaC knows exactly).
+// Exact rationals never get here: their nearest double is computed exactly (nearest_double).
+#include <cln/exception.h>
+#include <cln/float.h>
+#include <cln/real.h>
+
+#include <cmath>
+#include <exception>
+#include <optional>
+
+#include "formula/k_tree.hpp"
+
+namespace cs::k_formula {
+namespace {
+
+constexpr double kMaxLog2 = 1e6;    // |values| kept within 2^±kMaxLog2 (CLN's range is far wider)
+constexpr long kFirstDigits = 40;
+constexpr long kMaxDigits = 5120;  // 40 · 2^7
+
+struct NeedMorePrecision {};
+struct Refused {
+  ConstantValue::Kind kind;
+};
+
+// Restores GiNaC's precision and CLN's underflow setting (both global) on every way out.
+class PrecisionScope {
+ public:
+  PrecisionScope() : digits_(GiNaC::Digits), underflow_(cln::cl_inhibit_floating_point_underflow) {
+    cln::cl_inhibit_floating_point_underflow = true;  // a CLN underflow gives 0, not an exception
+  }
+  ~PrecisionScope() {
+    GiNaC::Digits = digits_;
+    cln::cl_inhibit_floating_point_underflow = underflow_;
+  }
+  PrecisionScope(const PrecisionScope&) = delete;
+  PrecisionScope& operator=(const PrecisionScope&) = delete;
+
+ private:
+  long digits_;
+  bool underflow_;
+};
+
+// log2 |x| to within one, for a nonzero real.
+double log2_magnitude(const numeric& x) {
+  if (x.is_rational())
+    return static_cast<double>(x.numer().int_length()) - static_cast<double>(x.denom().int_length());
+  const cln::cl_R r = cln::the<cln::cl_R>(x.to_cl_N());
+  return static_cast<double>(cln::float_exponent(cln::the<cln::cl_F>(r)));
+}
+
+numeric exact_rational(const numeric& x) {
+  if (x.is_rational()) return x;
+  return numeric(cln::rational(cln::the<cln::cl_R>(x.to_cl_N())));
+}
+
+class Evaluator {
+ public:
+  explicit Evaluator(long digits) : bits_(static_cast<double>(digits) * 3.32) {}
+
+  numeric value(const ex& e) const {
+    if (is_a<numeric>(e)) return checked(ex_to<numeric>(e));
+    if (e.is_equal(GiNaC::Pi)) return ex_to<numeric>(GiNaC::Pi.evalf());
+    if (is_a<GiNaC::add>(e)) {
+      numeric sum = 0;
+      for (std::size_t i = 0; i < e.nops(); ++i) sum = checked(sum + value(e.op(i)));
+      return sum;
+    }
+    if (is_a<GiNaC::mul>(e)) {
+      numeric product = 1;
+      for (std::size_t i = 0; i < e.nops(); ++i) product = checked(product * value(e.op(i)));
+      return product;
+    }
+    if (is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
+    if (is_a<GiNaC::function>(e) && e.nops() == 1)
+      return function(ex_to<GiNaC::function>(e).get_name(), value(e.op(0)));
+    throw Refused{ConstantValue::unresolved};
+  }
+
+ private:
+  // Not real: refused. Too large: refused. Too small for any double: 0. Exact rationals stay
+  // exact only as leaves; arithmetic runs on floats of the working precision.
+  static numeric checked(const numeric& x) {
+    if (!x.is_real()) throw Refused{ConstantValue::not_real};
+    if (x.is_zero()) return x;
+    const double m = log2_magnitude(x);
+    if (m > kMaxLog2) throw Refused{ConstantValue::overflow};
+    if (m < -kMaxLog2) return 0;
+    return x.is_rational() ? ex_to<numeric>(x.evalf()) : x;
+  }
+
+  numeric power(const ex& base, const ex& exponent) const {
+    const numeric b = value(base);
+    if (is_a<numeric>(exponent) && ex_to<numeric>(exponent).is_integer()) {
+      const numeric& k = ex_to<numeric>(exponent);
+      if (b.is_zero()) {
+        if (k.is_negative()) throw Refused{ConstantValue::pole};
+        return k.is_zero() ? numeric(1) : numeric(0);
+      }
+      const double m = log2_magnitude(b) * k.to_double();
+      if (m > kMaxLog2 + 64) throw Refused{ConstantValue::overflow};
+      if (m < -kMaxLog2 - 64) return 0;
+      return checked(b.power(k));
+    }
+    const numeric x = value(exponent);
+    if (b.is_zero()) {
+      if (x.is_positive()) return 0;
+      throw Refused{ConstantValue::pole};
+    }
+    if (b.is_negative()) throw Refused{ConstantValue::not_real};  // GiNaC's principal value
+    return exp(checked(x * GiNaC::log(b)));
+  }
+
+  // e^x, within the magnitudes kept.
+  static numeric exp(const numeric& x) {
+    static const double ln2 = std::log(2.0);
+    if (x > numeric(kMaxLog2 * ln2)) throw Refused{ConstantValue::overflow};
+    if (x < numeric(-kMaxLog2 * ln2)) return 0;
+    return checked(GiNaC::exp(x));
+  }
+
+  // sin, cos, tan of x: the reduction modulo 2π needs log2|x| + 64 bits beyond the double's.
+  void need_bits_for(const numeric& x) const {
+    if (!x.is_zero() && log2_magnitude(x) + 53 + 64 > bits_) throw NeedMorePrecision{};
+  }
+
+  numeric function(const std::string& name, const numeric& a) const {
+    if (name == "sin" || name == "cos" || name == "tan") {
+      need_bits_for(a);
+      if (name == "sin") return checked(GiNaC::sin(a));
+      if (name == "cos") return checked(GiNaC::cos(a));
+      return checked(GiNaC::tan(a));
+    }
+    if (name == "exp") return exp(a);
+    if (name == "sinh" || name == "cosh") {
+      exp(GiNaC::abs(a));  // refuses what overflows
+      return checked(name == "sinh" ? GiNaC::sinh(a) : GiNaC::cosh(a));
+    }
+    if (name == "tanh") {
+      if (GiNaC::abs(a) > numeric(bits_)) return a.is_positive() ? 1 : -1;  // 1 − |tanh| < 2^−bits
+      return checked(GiNaC::tanh(a));
+    }
+    if (name == "log") {
+      if (a.is_zero()) throw Refused{ConstantValue::pole};
+      if (a.is_negative()) throw Refused{ConstantValue::not_real};
+      return checked(GiNaC::log(a));
+    }
+    if (name == "abs") return GiNaC::abs(a);
+    if (name == "asin" || name == "acos") {
+      if (GiNaC::abs(a) > 1) throw Refused{ConstantValue::not_real};
+      return checked(name == "asin" ? GiNaC::asin(a) : GiNaC::acos(a));
+    }
+    if (name == "atan") return checked(GiNaC::atan(a));
+    throw Refused{ConstantValue::unresolved};
+  }
+
+  double bits_;
+};
+
+}  // namespace
+
+ConstantValue constant_value(const ex& e) {
+  if (is_a<numeric>(e) && ex_to<numeric>(e).is_rational()) {
+    const double x = nearest_double(ex_to<numeric>(e));
+    return std::isfinite(x) ? ConstantValue{ConstantValue::finite, x} : ConstantValue{ConstantValue::overflow};
+  }
+  PrecisionScope scope;
+  std::optional<numeric> previous;
+  for (long digits = kFirstDigits; digits <= kMaxDigits; digits *= 2) {
+    GiNaC::Digits = digits;
+    const Evaluator evaluator(digits);
+    numeric v;
+    try {
+      v = evaluator.value(e);
+    } catch (const NeedMorePrecision&) {
+      continue;
+    } catch (const Refused& r) {
+      return {r.kind};
+    } catch (const cln::floating_point_overflow_exception&) {
+      return {ConstantValue::overflow};
+    } catch (const cln::division_by_0_exception&) {
+      return {ConstantValue::pole};
+    } catch (const std::exception&) {
+      return {ConstantValue::unresolved};
+    }
+    if (previous) {
+      // The error of v is taken as its distance to the less precise value, and at least a few
+      // units in its last place: then a value exactly half-way between two doubles never
+      // passes (its rounding would depend on digits not computed).
+      numeric err = GiNaC::abs(v - *previous);
+      const numeric ulps = GiNaC::abs(v) / numeric(2).power(static_cast<long>(3.32 * digits) - 16);
+      if (err < ulps) err = ulps;
+      const numeric low = exact_rational(v) - exact_rational(err), high = exact_rational(v) + exact_rational(err);
+      const double a = nearest_double(low), b = nearest_double(high);
+      if (a == b) {  // also -0.0 == 0.0
+        if (std::isinf(a)) return {ConstantValue::overflow};
+        if (a == 0.0) return {ConstantValue::finite, high.is_negative() ? -0.0 : 0.0};
+        return {ConstantValue::finite, a};
+      }
+    }
+    previous = v;
+  }
+  return {ConstantValue::unresolved};
+}
+
+std::string constant_problem(ConstantValue::Kind kind) {
+  switch (kind) {
+    case ConstantValue::not_real: return "is not real; K must be real-valued";
+    case ConstantValue::overflow: return "is beyond the range of a double";
+    case ConstantValue::pole: return "has no finite value (a pole)";
+    case ConstantValue::unresolved: return "cannot be evaluated to double precision (at 5120 digits)";
+    case ConstantValue::finite: break;
+  }
+  return "";
+}
+
+}  // namespace cs::k_formula
