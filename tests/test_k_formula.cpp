@@ -367,6 +367,57 @@ TEST(KFormulaPrecision, MissingValueNamesIt) {
   }
 }
 
+// ---- size: bounded stack, near-linear time, a documented limit (issue 22, item 8) --------------
+// Timings are not asserted here; README ("Your own scene") lists them.
+
+std::string repeated(const std::string& term, int n, const std::string& sep) {
+  std::string s;
+  s.reserve(static_cast<std::size_t>(n) * (term.size() + sep.size()));
+  for (int i = 0; i < n; ++i) s += (i ? sep : "") + term;
+  return s;
+}
+
+void expect_same_traits(const KFormula& a, const KFormula& b) {
+  EXPECT_EQ(a.traits.dof, b.traits.dof);
+  EXPECT_EQ(a.traits.time_dependent, b.traits.time_dependent);
+  EXPECT_EQ(a.traits.z_feeds_back, b.traits.z_feeds_back);
+  EXPECT_EQ(a.traits.kz_constant, b.traits.kz_constant);
+  EXPECT_EQ(a.traits.kz_state_free, b.traits.kz_state_free);
+  EXPECT_EQ(a.traits.p_in_forces, b.traits.p_in_forces);
+  EXPECT_EQ(a.traits.z_part, b.traits.z_part);
+  EXPECT_EQ(a.parameters, b.parameters);
+}
+
+// 30 000 terms (60 kB; 35 000 crashed the code generator, which recursed once per term): the
+// same traits and values as 30000*q, and every term in the generated code.
+TEST(KFormulaSize, LongSumIsItsSmallEquivalent) {
+  const int n = 30000;
+  KFormula big = parse_k("p^2/2 - gamma*z + " + repeated("q", n, "+"));
+  KFormula small = parse_k("p^2/2 - gamma*z + 30000*q");
+  ASSERT_LE(big.text.size(), kMaxFormulaLength);
+  expect_same_traits(big, small);
+  for (double q : {0.5, -1.25, 3.0})
+    for (const char* wrt : {"", "q", "p", "z"}) {
+      std::map<std::string, double> v{{"q", q}, {"p", 0.75}, {"z", 0.5}, {"gamma", 0.1}};
+      EXPECT_EQ(evaluate_k(big, v, wrt), evaluate_k(small, v, wrt)) << q << " " << wrt;
+    }
+  const std::string code = body(scene_header(big, "Big"));
+  std::size_t terms = 0;
+  for (std::size_t at = code.find("q<0>(x)"); at != std::string::npos; at = code.find("q<0>(x)", at + 1)) ++terms;
+  EXPECT_EQ(terms, static_cast<std::size_t>(n));
+}
+
+TEST(KFormulaSize, BeyondTheLimitIsRefused) {
+  const std::string K = repeated("q", 35000, "+");  // 70 kB
+  try {
+    parse_k(K);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.K: is 69999 bytes long; K takes at most 65536"), std::string::npos)
+        << e.what();
+  }
+}
+
 // ---- the generated header ----------------------------------------------------------------------
 
 // Every number in generated code is a double literal: a number token (not a digit inside a name,

@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <exception>
+#include <map>
 #include <optional>
 
 #include "formula/k_tree.hpp"
@@ -28,7 +29,7 @@
 namespace cs::k_formula {
 namespace {
 
-constexpr double kMaxLog2 = 1e6;    // |values| kept within 2^±kMaxLog2 (CLN's range is far wider)
+constexpr double kMaxLog2 = 1e6;  // |values| kept within 2^±kMaxLog2 (CLN's range is far wider)
 constexpr long kFirstDigits = 40;
 constexpr long kMaxDigits = 5120;  // 40 · 2^7
 
@@ -58,7 +59,8 @@ class PrecisionScope {
 // log2 |x| to within one, for a nonzero real.
 double log2_magnitude(const numeric& x) {
   if (x.is_rational())
-    return static_cast<double>(x.numer().int_length()) - static_cast<double>(x.denom().int_length());
+    return static_cast<double>(x.numer().int_length()) -
+           static_cast<double>(x.denom().int_length());
   const cln::cl_R r = cln::the<cln::cl_R>(x.to_cl_N());
   return static_cast<double>(cln::float_exponent(cln::the<cln::cl_F>(r)));
 }
@@ -171,13 +173,7 @@ class Evaluator {
   double bits_;
 };
 
-}  // namespace
-
-ConstantValue constant_value(const ex& e) {
-  if (is_a<numeric>(e) && ex_to<numeric>(e).is_rational()) {
-    const double x = nearest_double(ex_to<numeric>(e));
-    return std::isfinite(x) ? ConstantValue{ConstantValue::finite, x} : ConstantValue{ConstantValue::overflow};
-  }
+ConstantValue evaluate(const ex& e) {
   PrecisionScope scope;
   std::optional<numeric> previous;
   for (long digits = kFirstDigits; digits <= kMaxDigits; digits *= 2) {
@@ -204,7 +200,8 @@ ConstantValue constant_value(const ex& e) {
       numeric err = GiNaC::abs(v - *previous);
       const numeric ulps = GiNaC::abs(v) / numeric(2).power(static_cast<long>(3.32 * digits) - 16);
       if (err < ulps) err = ulps;
-      const numeric low = exact_rational(v) - exact_rational(err), high = exact_rational(v) + exact_rational(err);
+      const numeric low = exact_rational(v) - exact_rational(err),
+                    high = exact_rational(v) + exact_rational(err);
       const double a = nearest_double(low), b = nearest_double(high);
       if (a == b) {  // also -0.0 == 0.0
         if (std::isinf(a)) return {ConstantValue::overflow};
@@ -217,12 +214,29 @@ ConstantValue constant_value(const ex& e) {
   return {ConstantValue::unresolved};
 }
 
+}  // namespace
+
+ConstantValue constant_value(const ex& e) {
+  if (is_a<numeric>(e) && ex_to<numeric>(e).is_rational()) {
+    const double x = nearest_double(ex_to<numeric>(e));
+    return std::isfinite(x) ? ConstantValue{ConstantValue::finite, x}
+                            : ConstantValue{ConstantValue::overflow};
+  }
+  // The parser checks a constant where it is written, the code generator folds it: evaluated
+  // once. (GiNaC is not thread-safe, and neither is this.)
+  static std::map<ex, ConstantValue, GiNaC::ex_is_less> known;
+  if (auto it = known.find(e); it != known.end()) return it->second;
+  if (known.size() >= 4096) known.clear();
+  return known[e] = evaluate(e);
+}
+
 std::string constant_problem(ConstantValue::Kind kind) {
   switch (kind) {
     case ConstantValue::not_real: return "is not real; K must be real-valued";
     case ConstantValue::overflow: return "is beyond the range of a double";
     case ConstantValue::pole: return "has no finite value (a pole)";
-    case ConstantValue::unresolved: return "cannot be evaluated to double precision (at 5120 digits)";
+    case ConstantValue::unresolved:
+      return "cannot be evaluated to double precision (at 5120 digits)";
     case ConstantValue::finite: break;
   }
   return "";

@@ -25,7 +25,9 @@ std::vector<std::string> sorted_parameters(const Parsed& parsed) {
 
 }  // namespace
 
-KFormula parse_k(const std::string& text) {
+namespace {
+
+KFormula parse_and_analyse(const std::string& text) {
   Parsed parsed = parse(text);
   KFormula f;
   f.text = text;
@@ -38,6 +40,18 @@ KFormula parse_k(const std::string& text) {
   // Generate once so that every refusal (a constant beyond the double range, ...) happens here.
   return_statement(parsed, fields_of(f.parameters));
   return f;
+}
+
+}  // namespace
+
+KFormula parse_k(const std::string& text) {
+  try {
+    return parse_and_analyse(text);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // GiNaC's or CLN's, std::bad_alloc, std::length_error
+    throw InputError(std::string("scene.K: could not be analysed: ") + e.what());
+  }
 }
 
 double evaluate_k(const KFormula& f, const std::map<std::string, double>& values, const std::string& wrt) {

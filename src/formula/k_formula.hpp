@@ -19,6 +19,7 @@
 // Not thread-safe (GiNaC keeps global state): parse and generate from one thread.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,6 +32,10 @@ namespace cs {
 
 // The highest index N of q1…qN, p1…pN accepted (the kernel is compiled for N).
 inline constexpr int kMaxFormulaDof = 64;
+
+// The longest K accepted, in bytes. Parsing, analysis and code generation run in bounded stack
+// and near-linear time (a 64 kB K of 3000 terms in about a second); beyond this K is refused.
+inline constexpr std::size_t kMaxFormulaLength = 65536;
 
 struct KTraits {
   int dof = 0;                  // 1 for q, p; N = the highest index written for q1..qN, p1..pN
@@ -54,7 +59,8 @@ struct KFormula {
 };
 
 // Parses and analyses K. Bad input throws InputError; every message starts with "scene.K: " and
-// names the symbol, function or column at fault.
+// names the symbol, function or column at fault. Any other failure while handling K (GiNaC or
+// CLN giving up, memory) is an InputError too, never another exception.
 KFormula parse_k(const std::string& text);
 
 // The C++ scene header for f (from parse_k), a struct named struct_name in namespace cs. K is

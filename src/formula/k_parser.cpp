@@ -19,6 +19,23 @@ namespace cs::k_formula {
 
 [[noreturn]] void fail(const std::string& message) { throw InputError("scene.K: " + message); }
 
+Node::~Node() {
+  // Children owned by this node alone are taken apart here, one at a time, rather than by their
+  // own destructors in a recursion as deep as the tree.
+  std::vector<NodePtr> pending;
+  pending.push_back(std::move(a));
+  pending.push_back(std::move(b));
+  while (!pending.empty()) {
+    NodePtr n = std::move(pending.back());
+    pending.pop_back();
+    if (n && n.use_count() == 1) {
+      auto& owned = const_cast<Node&>(*n);  // made non-const by make_shared<Node>
+      pending.push_back(std::move(owned.a));
+      pending.push_back(std::move(owned.b));
+    }
+  }
+}
+
 namespace {
 
 // Powers in the K of any physics we meet are small: q^4, r^-3/2, a Lennard-Jones r^-12, a
@@ -342,10 +359,17 @@ void refuse_reserved_parameter(const std::string& name, const std::string& text,
   }
 }
 
-NodePtr make_node(Node::Kind kind, ex value, NodePtr a = {}, NodePtr b = {}, std::string text = {}) {
+bool has_no_symbol(const ex& e) {
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::symbol>(*it)) return false;
+  return true;
+}
+
+std::shared_ptr<Node> make_node(Node::Kind kind, ex value, NodePtr a = {}, NodePtr b = {}, std::string text = {}) {
   auto n = std::make_shared<Node>();
   n->kind = kind;
   n->value = std::move(value);
+  n->constant = has_no_symbol(n->value);
   n->a = std::move(a);
   n->b = std::move(b);
   n->text = std::move(text);
@@ -405,8 +429,7 @@ class Parser {
     excerpt.erase(excerpt.find_last_not_of(" \t\r\n") + 1);
     std::string message = excerpt + " at " + at(from) + " is not real; K must be real-valued";
     if (e.has(GiNaC::I)) fail(message);
-    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
-      if (is_a<GiNaC::symbol>(*it)) return;
+    if (!has_no_symbol(e)) return;
     // A constant beyond the double range is judged where it is folded (scene_codegen.cpp): it may
     // be part of a constant that is not (1/exp(1000) is 0.0).
     const ConstantValue v = constant_value(e);
@@ -418,35 +441,54 @@ class Parser {
     if (++depth_ > 200) syntax(offset, "nested too deeply");
   }
 
-  NodePtr binary(const Token& op, const NodePtr& lhs, const NodePtr& rhs) {
-    const ex &l = lhs->value, &r = rhs->value;
-    switch (op.text[0]) {
-      case '+': return make_node(Node::add, guarded(op.offset, "'+'", [&] { return l + r; }), lhs, rhs);
-      case '-': return make_node(Node::sub, guarded(op.offset, "'-'", [&] { return l - r; }), lhs, rhs);
-      case '*': return make_node(Node::mul, guarded(op.offset, "'*'", [&] { return l * r; }), lhs, rhs);
-      default: return make_node(Node::div, guarded(op.offset, "'/'", [&] { return l / r; }), lhs, rhs);
+  // a ± b ± c … and a */ b */ c …: the tree as written, left-deep, and the chain's GiNaC value
+  // made once from all its operands (adding one term at a time copies the sum so far: quadratic
+  // in its length). A node inside the chain carries a value only when it is constant (then it
+  // may be folded); q − q + p folds q − q no more, the chain as a whole still would.
+  NodePtr parse_chain(bool sum) {
+    NodePtr lhs = sum ? parse_product() : parse_unary();
+    auto continues = [&] { return sum ? at_op('+') || at_op('-') : at_op('*') || at_op('/'); };
+    if (!continues()) return lhs;
+    const std::size_t first_op = cur_.offset;
+    GiNaC::exvector operands{lhs->value};
+    std::shared_ptr<Node> node;
+    while (continues()) {
+      const Token op = cur_;
+      advance();
+      NodePtr rhs = sum ? parse_product() : parse_unary();
+      const char c = op.text[0];
+      const ex& r = rhs->value;
+      operands.push_back(c == '+' || c == '*' ? r
+                         : c == '-'           ? -r
+                                              : guarded(op.offset, "'/'", [&] { return GiNaC::pow(r, -1); }));
+      node = std::make_shared<Node>();
+      node->kind = c == '+' ? Node::add : c == '-' ? Node::sub : c == '*' ? Node::mul : Node::div;
+      node->constant = lhs->constant && rhs->constant;
+      if (node->constant) {
+        const ex& l = lhs->value;
+        node->value = guarded(op.offset, std::string("'") + c + "'", [&]() -> ex {
+          switch (c) {
+            case '+': return l + r;
+            case '-': return l - r;
+            case '*': return l * r;
+            default: return l / r;
+          }
+        });
+      }
+      node->a = std::move(lhs);
+      node->b = std::move(rhs);
+      lhs = node;
     }
+    node->value = guarded(first_op, sum ? "the sum" : "the product", [&]() -> ex {
+      if (sum) return GiNaC::add(operands);
+      return GiNaC::mul(operands);
+    });
+    node->constant = has_no_symbol(node->value);
+    return node;
   }
 
-  NodePtr parse_sum() {
-    NodePtr lhs = parse_product();
-    while (at_op('+') || at_op('-')) {
-      Token op = cur_;
-      advance();
-      lhs = binary(op, lhs, parse_product());
-    }
-    return lhs;
-  }
-
-  NodePtr parse_product() {
-    NodePtr lhs = parse_unary();
-    while (at_op('*') || at_op('/')) {
-      Token op = cur_;
-      advance();
-      lhs = binary(op, lhs, parse_unary());
-    }
-    return lhs;
-  }
+  NodePtr parse_sum() { return parse_chain(true); }
+  NodePtr parse_product() { return parse_chain(false); }
 
   NodePtr parse_unary() {
     if (at_op('+') || at_op('-')) {
@@ -608,6 +650,9 @@ class Parser {
 }  // namespace
 
 Parsed parse(const std::string& text) {
+  if (text.size() > kMaxFormulaLength)
+    fail("is " + std::to_string(text.size()) + " bytes long; K takes at most " +
+         std::to_string(kMaxFormulaLength) + " (write a long sum with fewer terms, or split it into parameters)");
   Parsed parsed;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");

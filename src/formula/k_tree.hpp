@@ -45,9 +45,16 @@ struct Node;
 using NodePtr = std::shared_ptr<const Node>;
 struct Node {
   enum Kind { number, name, neg, add, sub, mul, div, pow, call } kind = number;
+  // The subtree's value; inside a chain a ± b ± c (or a */ b */ c) only when constant (only the
+  // whole chain's value is made: k_parser.cpp).
   ex value;
+  bool constant = false;  // the value has no symbol (q − q is constant)
   NodePtr a, b;      // operands: a alone for neg and call
   std::string text;  // the name, or the function
+  Node() = default;
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+  ~Node();  // without recursion: a chain of 30 000 terms is as deep
 };
 
 struct Parsed {
