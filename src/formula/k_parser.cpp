@@ -425,16 +425,18 @@ class Parser {
 
   // A constant made by a function or a power must be real: sqrt(-1), log(-2), asin(2) are not.
   void check_real(const ex& e, std::size_t from) const {
-    std::string excerpt = text_.substr(from, (cur_.kind == Token::end ? text_.size() : cur_.offset) - from);
-    excerpt.erase(excerpt.find_last_not_of(" \t\r\n") + 1);
-    std::string message = excerpt + " at " + at(from) + " is not real; K must be real-valued";
-    if (e.has(GiNaC::I)) fail(message);
+    // The message only on failure: its column costs a scan of the text up to `from`.
+    auto refuse = [&](const std::string& problem) {
+      std::string excerpt = text_.substr(from, (cur_.kind == Token::end ? text_.size() : cur_.offset) - from);
+      excerpt.erase(excerpt.find_last_not_of(" \t\r\n") + 1);
+      fail(excerpt + " at " + at(from) + " " + problem);
+    };
+    if (e.has(GiNaC::I)) refuse(constant_problem(ConstantValue::not_real));
     if (!has_no_symbol(e)) return;
     // A constant beyond the double range is judged where it is folded (scene_codegen.cpp): it may
     // be part of a constant that is not (1/exp(1000) is 0.0).
     const ConstantValue v = constant_value(e);
-    if (v.kind == ConstantValue::not_real) fail(message);
-    if (v.kind == ConstantValue::pole) fail(excerpt + " at " + at(from) + " " + constant_problem(v.kind));
+    if (v.kind == ConstantValue::not_real || v.kind == ConstantValue::pole) refuse(constant_problem(v.kind));
   }
 
   void enter(std::size_t offset) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -176,18 +177,44 @@ KTraits structural_traits(const Parsed& f) {
 
 }  // namespace
 
+// ∂K/∂x from the terms of K that contain x: with 64 degrees of freedom K has 129 partials, and
+// differentiating every term for each took 4 s for 2000 terms.
+class Partials {
+ public:
+  explicit Partials(const ex& K) {
+    const std::size_t n = is_a<GiNaC::add>(K) ? K.nops() : 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const ex term = is_a<GiNaC::add>(K) ? K.op(i) : K;
+      GiNaC::exset symbols;
+      symbols_of(term, symbols);
+      for (const ex& s : symbols) terms_with_[s].push_back(term);
+    }
+  }
+  ex operator()(const ex& x) const {
+    auto it = terms_with_.find(x);
+    if (it == terms_with_.end()) return 0;
+    GiNaC::exvector parts;
+    for (const ex& term : it->second) parts.push_back(term.diff(ex_to<GiNaC::symbol>(x)));
+    return GiNaC::add(parts);
+  }
+
+ private:
+  std::map<ex, GiNaC::exvector, GiNaC::ex_is_less> terms_with_;
+};
+
 KTraits analyse(const Parsed& f) {
   if (derivative_cost(f.K) > kMaxDerivativeCost) return structural_traits(f);
   KTraits tr;
   tr.dof = f.dof;
   tr.indexed = f.indexed;
   const ex& K = f.K;
+  const Partials partial(K);
   std::vector<ex> Kq, Kp;
   for (int i = 0; i < f.dof; ++i) {
-    Kq.push_back(simplified(K.diff(f.q[i])));
-    Kp.push_back(simplified(K.diff(f.p[i])));
+    Kq.push_back(simplified(partial(f.q[i])));
+    Kp.push_back(simplified(partial(f.p[i])));
   }
-  ex Kz = simplified(K.diff(f.z));
+  ex Kz = simplified(partial(f.z));
   tr.time_dependent = simplified(K).has(f.t);
   auto has_z = [&](const ex& e) { return e.has(f.z); };
   tr.z_feeds_back = std::any_of(Kq.begin(), Kq.end(), has_z) ||
