@@ -311,6 +311,11 @@ TEST(KFormulaPrecision, ConstantsAreTheNearestDoubleOfTheirExactValue) {
       {"sin(" + exact_integer(muller) + ")", 1.0},
       // underflow is a value; values that are exactly 0 or 1
       {"exp(-1e300)", 0.0},
+      {"-exp(-1e300)", -0.0},
+      {"exp(-693148)*exp(693140)", 0x1.5fc21041027adp-12},  // e^-8: the first factor is below
+                                                            // 2^-10^6, and was taken for 0
+      {"log(1 + exp(-1e300))", 0.0},
+      {"cos(exp(-1e300))", 1.0},
       {"1/exp(1000)", 0.0},
       {"exp(1000)*exp(-1000)", 1.0},
       {"(sqrt(2) + 1)*(sqrt(2) - 1)", 1.0},

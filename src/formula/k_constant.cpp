@@ -10,8 +10,8 @@
 //     reduction modulo 2π keeps 64 bits beyond the double's 53), so sin(1e300) waits for the
 //     ~1000 bits its reduction needs;
 //   * a value beyond 2^1000000 in magnitude is "beyond the range of a double" before CLN sees
-//     it, and one below 2^-1000000 is 0 (an underflow is a value: exp(-1e300) is 0.0; its sign
-//     is not kept);
+//     it; one below 2^-10^12 is "flushed" (Value below): an underflow is a value, exp(-1e300) is
+//     0.0 and -exp(-1e300) is -0.0, and exp(-693148)*exp(693140) is still e^-8;
 //   * at 5120 digits without an answer the constant is refused (sin(exp(1e5)), or a value that
 //     is exactly half-way between two doubles without being a rational GiNaC knows exactly).
 // Exact rationals never get here: their nearest double is computed exactly (nearest_double).
@@ -29,7 +29,8 @@
 namespace cs::k_formula {
 namespace {
 
-constexpr double kMaxLog2 = 1e6;  // |values| kept within 2^±kMaxLog2 (CLN's range is far wider)
+constexpr double kMaxLog2 = 1e6;     // beyond 2^kMaxLog2 in magnitude: refused as overflow
+constexpr double kFlushLog2 = 1e12;  // below 2^−kFlushLog2: flushed (Value); CLN reaches 2^−1e17
 constexpr long kFirstDigits = 40;
 constexpr long kMaxDigits = 5120;  // 40 · 2^7
 
@@ -70,22 +71,52 @@ numeric exact_rational(const numeric& x) {
   return numeric(cln::rational(cln::the<cln::cl_R>(x.to_cl_N())));
 }
 
+// A value, or a "flushed" one: nonzero, of the sign given and below 2^−kFlushLog2 in magnitude
+// (exp(−1e300) is beyond even CLN's range). Only what cannot depend on its size is computed from
+// it: it adds nothing, times a value it stays flushed, cos of it is 1, its logarithm is refused.
+// Between 2^−kFlushLog2 and 2^kMaxLog2 every value is CLN's own, so a flushed one times all the
+// values a K of 64 kB can multiply it by stays far below the doubles.
+struct Value {
+  numeric v;        // when not flushed
+  int flushed = 0;  // 0, or the sign of a flushed value
+};
+
 class Evaluator {
  public:
   explicit Evaluator(long digits) : bits_(static_cast<double>(digits) * 3.32) {}
 
-  numeric value(const ex& e) const {
+  Value value(const ex& e) const {
     if (is_a<numeric>(e)) return checked(ex_to<numeric>(e));
-    if (e.is_equal(GiNaC::Pi)) return ex_to<numeric>(GiNaC::Pi.evalf());
+    if (e.is_equal(GiNaC::Pi)) return {ex_to<numeric>(GiNaC::Pi.evalf())};
     if (is_a<GiNaC::add>(e)) {
       numeric sum = 0;
-      for (std::size_t i = 0; i < e.nops(); ++i) sum = checked(sum + value(e.op(i)));
-      return sum;
+      int flushed = 0;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const Value term = value(e.op(i));
+        if (term.flushed == 0) {
+          sum = checked_number(sum + term.v);
+        } else if (flushed == 0 || flushed == term.flushed) {
+          flushed = term.flushed;
+        } else {
+          throw Refused{ConstantValue::unresolved};  // flushed values of both signs
+        }
+      }
+      if (flushed != 0 && sum.is_zero()) return {0, flushed};
+      return {sum};
     }
     if (is_a<GiNaC::mul>(e)) {
       numeric product = 1;
-      for (std::size_t i = 0; i < e.nops(); ++i) product = checked(product * value(e.op(i)));
-      return product;
+      int flushed = 0;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const Value factor = value(e.op(i));
+        if (factor.flushed == 0) {
+          product = checked_number(product * factor.v);
+        } else {
+          flushed = (flushed == 0 ? 1 : flushed) * factor.flushed;
+        }
+      }
+      if (flushed == 0 || product.is_zero()) return {product};
+      return {0, product.is_negative() ? -flushed : flushed};
     }
     if (is_a<GiNaC::power>(e)) return power(e.op(0), e.op(1));
     if (is_a<GiNaC::function>(e) && e.nops() == 1)
@@ -94,44 +125,66 @@ class Evaluator {
   }
 
  private:
-  // Not real: refused. Too large: refused. Too small for any double: 0. Exact rationals stay
+  // Not real: refused. Too large: refused. Below 2^−kFlushLog2: flushed. Exact rationals stay
   // exact only as leaves; arithmetic runs on floats of the working precision.
-  static numeric checked(const numeric& x) {
+  static Value checked(const numeric& x) {
+    if (!x.is_real()) throw Refused{ConstantValue::not_real};
+    if (!x.is_zero() && log2_magnitude(x) < -kFlushLog2) return {0, x.is_negative() ? -1 : 1};
+    return {checked_number(x)};
+  }
+  static numeric checked_number(const numeric& x) {
     if (!x.is_real()) throw Refused{ConstantValue::not_real};
     if (x.is_zero()) return x;
     const double m = log2_magnitude(x);
     if (m > kMaxLog2) throw Refused{ConstantValue::overflow};
-    if (m < -kMaxLog2) return 0;
+    if (m < -kFlushLog2) throw Refused{ConstantValue::unresolved};  // not reached: CLN's range
     return x.is_rational() ? ex_to<numeric>(x.evalf()) : x;
   }
 
-  numeric power(const ex& base, const ex& exponent) const {
-    const numeric b = value(base);
+  Value power(const ex& base, const ex& exponent) const {
+    const Value b = value(base);
     if (is_a<numeric>(exponent) && ex_to<numeric>(exponent).is_integer()) {
       const numeric& k = ex_to<numeric>(exponent);
-      if (b.is_zero()) {
-        if (k.is_negative()) throw Refused{ConstantValue::pole};
-        return k.is_zero() ? numeric(1) : numeric(0);
+      if (k.is_zero()) return {1};
+      if (b.flushed != 0) {
+        if (k.is_negative()) throw Refused{ConstantValue::overflow};
+        return {0, k.is_odd() ? b.flushed : 1};
       }
-      const double m = log2_magnitude(b) * k.to_double();
+      if (b.v.is_zero()) {
+        if (k.is_negative()) throw Refused{ConstantValue::pole};
+        return {0};
+      }
+      const double m = log2_magnitude(b.v) * k.to_double();
       if (m > kMaxLog2 + 64) throw Refused{ConstantValue::overflow};
-      if (m < -kMaxLog2 - 64) return 0;
-      return checked(b.power(k));
+      return checked(b.v.power(k));
     }
-    const numeric x = value(exponent);
-    if (b.is_zero()) {
-      if (x.is_positive()) return 0;
+    const Value x = value(exponent);
+    if (b.flushed < 0 || (b.flushed == 0 && b.v.is_negative()))
+      throw Refused{ConstantValue::not_real};  // GiNaC's principal value
+    if (b.flushed > 0) {
+      // b^x = 2^(x·log2 b), log2 b < −kFlushLog2: flushed for x ≥ 2^−20
+      if (x.flushed == 0 && x.v >= numeric(1, 1 << 20)) return {0, 1};
+      throw Refused{ConstantValue::unresolved};
+    }
+    if (x.flushed != 0) {  // b^x = e^(x·ln b), |x·ln b| < 2^−kFlushLog2 · 2^20
+      if (b.v.is_zero()) {
+        if (x.flushed > 0) return {0};
+        throw Refused{ConstantValue::pole};
+      }
+      return {1};
+    }
+    if (b.v.is_zero()) {
+      if (x.v.is_positive()) return {0};
       throw Refused{ConstantValue::pole};
     }
-    if (b.is_negative()) throw Refused{ConstantValue::not_real};  // GiNaC's principal value
-    return exp(checked(x * GiNaC::log(b)));
+    return exp(checked_number(x.v * GiNaC::log(b.v)));
   }
 
   // e^x, within the magnitudes kept.
-  static numeric exp(const numeric& x) {
+  static Value exp(const numeric& x) {
     static const double ln2 = std::log(2.0);
     if (x > numeric(kMaxLog2 * ln2)) throw Refused{ConstantValue::overflow};
-    if (x < numeric(-kMaxLog2 * ln2)) return 0;
+    if (x < numeric(-kFlushLog2 * ln2)) return {0, 1};
     return checked(GiNaC::exp(x));
   }
 
@@ -140,7 +193,17 @@ class Evaluator {
     if (!x.is_zero() && log2_magnitude(x) + 53 + 64 > bits_) throw NeedMorePrecision{};
   }
 
-  numeric function(const std::string& name, const numeric& a) const {
+  Value function(const std::string& name, const Value& arg) const {
+    if (arg.flushed != 0) {  // f(a) for a below every double by far
+      if (name == "sin" || name == "tan" || name == "sinh" || name == "tanh" || name == "asin" ||
+          name == "atan")
+        return arg;  // f(a) = a(1 + O(a²))
+      if (name == "cos" || name == "cosh" || name == "exp") return {1};
+      if (name == "acos") return {ex_to<numeric>((GiNaC::Pi / 2).evalf())};
+      if (name == "abs") return {0, 1};
+      throw Refused{ConstantValue::unresolved};  // log
+    }
+    const numeric& a = arg.v;
     if (name == "sin" || name == "cos" || name == "tan") {
       need_bits_for(a);
       if (name == "sin") return checked(GiNaC::sin(a));
@@ -153,7 +216,8 @@ class Evaluator {
       return checked(name == "sinh" ? GiNaC::sinh(a) : GiNaC::cosh(a));
     }
     if (name == "tanh") {
-      if (GiNaC::abs(a) > numeric(bits_)) return a.is_positive() ? 1 : -1;  // 1 − |tanh| < 2^−bits
+      if (GiNaC::abs(a) > numeric(bits_))
+        return {a.is_positive() ? 1 : -1};  // 1 − |tanh| < 2^−bits
       return checked(GiNaC::tanh(a));
     }
     if (name == "log") {
@@ -161,7 +225,7 @@ class Evaluator {
       if (a.is_negative()) throw Refused{ConstantValue::not_real};
       return checked(GiNaC::log(a));
     }
-    if (name == "abs") return GiNaC::abs(a);
+    if (name == "abs") return {GiNaC::abs(a)};
     if (name == "asin" || name == "acos") {
       if (GiNaC::abs(a) > 1) throw Refused{ConstantValue::not_real};
       return checked(name == "asin" ? GiNaC::asin(a) : GiNaC::acos(a));
@@ -179,9 +243,9 @@ ConstantValue evaluate(const ex& e) {
   for (long digits = kFirstDigits; digits <= kMaxDigits; digits *= 2) {
     GiNaC::Digits = digits;
     const Evaluator evaluator(digits);
-    numeric v;
+    Value value;
     try {
-      v = evaluator.value(e);
+      value = evaluator.value(e);
     } catch (const NeedMorePrecision&) {
       continue;
     } catch (const Refused& r) {
@@ -192,6 +256,14 @@ ConstantValue evaluate(const ex& e) {
       return {ConstantValue::pole};
     } catch (const std::exception&) {
       return {ConstantValue::unresolved};
+    }
+    if (value.flushed != 0) return {ConstantValue::finite, value.flushed < 0 ? -0.0 : 0.0};
+    const numeric& v = value.v;
+    // Far outside the doubles, the value's size decides (and its exact rational would be huge).
+    if (!v.is_zero() && !v.is_rational()) {
+      const double m = log2_magnitude(v);
+      if (m > 1100) return {ConstantValue::overflow};
+      if (m < -1100) return {ConstantValue::finite, v.is_negative() ? -0.0 : 0.0};
     }
     if (previous) {
       // The error of v is taken as its distance to the less precise value, and at least a few

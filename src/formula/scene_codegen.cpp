@@ -165,7 +165,7 @@ class CodeGen {
   }
 
  private:
-  static Code literal(double x) { return {double_literal(x), x < 0 ? kUnary : kAtom, true}; }
+  static Code literal(double x) { return {double_literal(x), std::signbit(x) ? kUnary : kAtom, true}; }
 
   static bool constant_equals(const Node& n, const numeric& v) {
     if (!n.constant) return false;
