@@ -299,6 +299,8 @@ TEST(KFormulaPrecision, ConstantsAreTheNearestDoubleOfTheirExactValue) {
       {"sinh(700)", 0x1.d945df4f8ec8ep+1008},
       {"log(3)", 0x1.193ea7aad030bp+0},
       {"1 - cos(1e-10)", 0x1.79ca10c924223p-68},  // cancellation: 5e-21
+      {"cos(1e-100) - 1", -0x1.87e92154ef7acp-666},  // 0 until 1100 bits (was 0.0)
+      {"tanh(300) - 1", -0x1.4dd4d0d12c071p-865},
       {"exp(-740)", 0x0.0000000000055p-1022},      // subnormal: 85 · 2^-1074
       {"exp(-745.1)", 0x0.0000000000001p-1022},
       {"4.2e-322", 0x0.0000000000055p-1022},  // a subnormal literal (was 2e-323)

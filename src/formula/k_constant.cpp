@@ -19,6 +19,7 @@
 #include <cln/float.h>
 #include <cln/real.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -87,13 +88,15 @@ class Evaluator {
 
   Value value(const ex& e) const {
     if (is_a<numeric>(e)) return checked(ex_to<numeric>(e));
-    if (e.is_equal(GiNaC::Pi)) return {ex_to<numeric>(GiNaC::Pi.evalf())};
+    if (e.is_equal(GiNaC::Pi)) return checked(ex_to<numeric>(GiNaC::Pi.evalf()));
     if (is_a<GiNaC::add>(e)) {
       numeric sum = 0;
       int flushed = 0;
+      double largest = -kFlushLog2;
       for (std::size_t i = 0; i < e.nops(); ++i) {
         const Value term = value(e.op(i));
         if (term.flushed == 0) {
+          if (!term.v.is_zero()) largest = std::max(largest, log2_magnitude(term.v));
           sum = checked_number(sum + term.v);
         } else if (flushed == 0 || flushed == term.flushed) {
           flushed = term.flushed;
@@ -101,6 +104,10 @@ class Evaluator {
           throw Refused{ConstantValue::unresolved};  // flushed values of both signs
         }
       }
+      if (sum.is_zero())
+        zero_scale_ = std::max(zero_scale_, largest);
+      else
+        cancelled_ = std::max(cancelled_, largest - log2_magnitude(sum));
       if (flushed != 0 && sum.is_zero()) return {0, flushed};
       return {sum};
     }
@@ -127,12 +134,12 @@ class Evaluator {
  private:
   // Not real: refused. Too large: refused. Below 2^−kFlushLog2: flushed. Exact rationals stay
   // exact only as leaves; arithmetic runs on floats of the working precision.
-  static Value checked(const numeric& x) {
+  Value checked(const numeric& x) const {
     if (!x.is_real()) throw Refused{ConstantValue::not_real};
     if (!x.is_zero() && log2_magnitude(x) < -kFlushLog2) return {0, x.is_negative() ? -1 : 1};
     return {checked_number(x)};
   }
-  static numeric checked_number(const numeric& x) {
+  numeric checked_number(const numeric& x) const {
     if (!x.is_real()) throw Refused{ConstantValue::not_real};
     if (x.is_zero()) return x;
     const double m = log2_magnitude(x);
@@ -181,7 +188,7 @@ class Evaluator {
   }
 
   // e^x, within the magnitudes kept.
-  static Value exp(const numeric& x) {
+  Value exp(const numeric& x) const {
     static const double ln2 = std::log(2.0);
     if (x > numeric(kMaxLog2 * ln2)) throw Refused{ConstantValue::overflow};
     if (x < numeric(-kFlushLog2 * ln2)) return {0, 1};
@@ -235,6 +242,17 @@ class Evaluator {
   }
 
   double bits_;
+  // What sums cancelled: the bits lost (largest term against the sum), and the size of the
+  // largest term of a sum that came out exactly 0 (cos(1e-100) − 1 is 0 until 1100 bits).
+  mutable double cancelled_ = 0, zero_scale_ = -kFlushLog2;
+
+ public:
+  // A lower bound on the error of a result v at this precision, in log2: a few units in its
+  // last place, more where sums cancelled.
+  double error_floor_log2(const numeric& v) const {
+    const double own = v.is_zero() ? -kFlushLog2 : log2_magnitude(v) + cancelled_;
+    return std::max(own, zero_scale_) - bits_ + 16;
+  }
 };
 
 ConstantValue evaluate(const ex& e) {
@@ -267,10 +285,13 @@ ConstantValue evaluate(const ex& e) {
     }
     if (previous) {
       // The error of v is taken as its distance to the less precise value, and at least a few
-      // units in its last place: then a value exactly half-way between two doubles never
-      // passes (its rounding would depend on digits not computed).
+      // units in its last place, more where sums cancelled: then a cancellation is not taken
+      // for its result (cos(1e-100) − 1 is 0 at 80 digits), and a value exactly half-way
+      // between two doubles never passes (its rounding would depend on digits not computed).
       numeric err = GiNaC::abs(v - *previous);
-      const numeric ulps = GiNaC::abs(v) / numeric(2).power(static_cast<long>(3.32 * digits) - 16);
+      const long floor_log2 =
+          std::max(-1200L, static_cast<long>(std::floor(evaluator.error_floor_log2(v))));
+      const numeric ulps = numeric(2).power(floor_log2);
       if (err < ulps) err = ulps;
       const numeric low = exact_rational(v) - exact_rational(err),
                     high = exact_rational(v) + exact_rational(err);
