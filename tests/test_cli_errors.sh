@@ -167,6 +167,12 @@ k_expect "a^b^c" "syntax error at column 12: a^b^c is ambiguous" 'K = "p^2/2 + q
 k_expect "unbalanced parenthesis" "syntax error at column 9: '(' is never closed" 'K = "p^2/2 + (q^2/2"'
 k_expect "trailing operator" "syntax error at column 15: '+' at the end has no right operand" \
   'K = "p^2/2 + q^2/2 +"'
+k_expect "constant beyond the double range (was exit 0 with 1.0)" \
+  "scene.K: the constant exp(exp(exp(9))) is beyond the range of a double" 'K = "p^2/2 + exp(exp(exp(9)))*q"'
+k_expect "constant that 5120 digits do not resolve" "cannot be evaluated to double precision" \
+  'K = "p^2/2 + sin(exp(1e5))*q"'
+k_expect "K beyond 64 kB (35 000 terms crashed: SIGSEGV)" "scene.K: is 69999 bytes long; K takes at most 65536" \
+  "K = \"$(printf 'q+%.0s' {1..34999})q\""
 k_expect "K not a string" "scene.K: expected a string (in quotes), got a float 3.0" 'K = 3.0'
 k_expect "a splitting on a K that does not split" \
   'method "contact_splitting4" needs K = sum of p_i^2/2 + V(q, t) + c(t)*z' \

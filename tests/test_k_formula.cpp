@@ -1,11 +1,15 @@
 // scene.K, a contact Hamiltonian written in the spec (src/formula/k_formula.hpp): what it means
 // (grammar, exact numbers), what the kernel learns from it (traits), what is refused and how,
 // and the scene header generated from it. Compiling the generated headers needs the run-time
-// compiler; here the text is checked, and evaluate_k (GiNaC, 40 digits) is the reference.
+// compiler; here the text is checked, and evaluate_k (GiNaC and CLN, correctly rounded) is the reference.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -165,6 +169,12 @@ const BadCase kBadCases[] = {
     {"1/0 + q", {"division by zero at column 2"}},
     {"log(0)*q", {"log(0) at column 1", "no finite value"}},
     {"q + 1e400", {"1e400 at column 5", "range"}},
+    // constants: exact to the double, or refused (issue 22, item 7)
+    {"exp(exp(exp(9)))*q + p", {"the constant exp(exp(exp(9)))", "beyond the range of a double"}},
+    {"exp(exp(700))*q + p", {"exp(exp(700))", "beyond the range of a double"}},
+    {"p + exp(1000)*q", {"exp(1000)", "beyond the range of a double"}},
+    {"sin(exp(1e5))*q + p", {"sin(exp(100000))", "cannot be evaluated to double precision"}},
+    {"asin(1 + 1e-50)*q + p", {"asin(1 + 1e-50) at column 1", "not real"}},
     {"q*1e-400", {"1e-400", "smallest"}},
     {"p + lambda*q", {"lambda", "column 5"}},
     {"p + h*q", {"h at column 5", "step"}},
@@ -251,6 +261,83 @@ TEST(KFormulaPrecision, LiteralsAreTheNearestDouble) {
     EXPECT_NE(h.find(literal), std::string::npos) << literal << " not in: " << h;
 }
 
+// Constant sub-expressions are folded to the double nearest to their exact value, however large
+// their arguments (GiNaC's evalf at 40 digits compiled sin(1e300) as 0.0 and cos(1e100) as 1.0;
+// CLN's exp wraps its exponent: exp(exp(700)) was 1.0). Expected values: an independent
+// reference, tests/support/fold_reference.py (Python's decimal module at 2900 digits, no CLN).
+struct FoldCase {
+  std::string constant;
+  double expected;
+};
+
+// The exact decimal of an integral double (glibc's printf prints every digit).
+std::string exact_integer(double x) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.0f", x);
+  return buf;
+}
+
+std::string shortest(double x) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  std::string s(buf, end);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+TEST(KFormulaPrecision, ConstantsAreTheNearestDoubleOfTheirExactValue) {
+  const double muller = 6381956970095103 * 0x1p797;  // the double nearest a multiple of π/2
+  const FoldCase cases[] = {
+      {"sin(1e22)", -0x1.b453ab76bf397p-1},  // -0.8522008497671888, the classic reduction test
+      {"sin(1e300)", -0x1.f8b4479c29f0cp-1},  // 10^300 exactly: not std::sin(1e300)
+      {"cos(1e100)", -0x1.db2d8d2c9c2bcp-1},
+      {"cos(1e22)", 0x1.0be2cef01c8f4p-1},
+      {"tan(1e300)", 0x1.770b950ff4191p+2},
+      {"sin((2^62)^16*2^31)", 0x1.205248cbdb760p-1},  // 2^1023
+      {"sin(exp(exp(5)))", 0x1.ea42836ed727bp-1},     // sin(2.5e64)
+      {"exp(700.5)", 0x1.8625c7d4f56c2p+1010},
+      {"sinh(700)", 0x1.d945df4f8ec8ep+1008},
+      {"log(3)", 0x1.193ea7aad030bp+0},
+      {"1 - cos(1e-10)", 0x1.79ca10c924223p-68},  // cancellation: 5e-21
+      {"cos(1e-100) - 1", -0x1.87e92154ef7acp-666},  // 0 until 1100 bits (was 0.0)
+      {"tanh(300) - 1", -0x1.4dd4d0d12c071p-865},
+      {"exp(-740)", 0x0.0000000000055p-1022},      // subnormal: 85 · 2^-1074
+      {"exp(-745.1)", 0x0.0000000000001p-1022},
+      {"4.2e-322", 0x0.0000000000055p-1022},  // a subnormal literal (was 2e-323)
+      // arguments that are doubles, written as their exact decimals
+      {"sin(" + exact_integer(1e300) + ")", -0x1.a2c16b010e385p-1},
+      {"cos(" + exact_integer(1e300) + ")", -0x1.2699022adc4c1p-1},
+      {"sin(" + exact_integer(1e100) + ")", -0x1.85c5e5b929359p-2},
+      {"cos(" + exact_integer(1.7976931348623157e308) + ")", -0x1.fffe62ecfab75p-1},
+      {"cos(" + exact_integer(muller) + ")", -0x1.14ae72e6ba22fp-61},  // glibc: 1 ulp off
+      {"sin(" + exact_integer(muller) + ")", 1.0},
+      // underflow is a value; values that are exactly 0 or 1
+      {"exp(-1e300)", 0.0},
+      {"-exp(-1e300)", -0.0},
+      {"exp(-693148)*exp(693140)", 0x1.5fc21041027adp-12},  // e^-8: the first factor is below
+                                                            // 2^-10^6, and was taken for 0
+      {"log(1 + exp(-1e300))", 0.0},
+      {"cos(exp(-1e300))", 1.0},
+      {"1/exp(1000)", 0.0},
+      {"exp(1000)*exp(-1000)", 1.0},
+      {"(sqrt(2) + 1)*(sqrt(2) - 1)", 1.0},
+      {"sin(pi/7) - cos(5*pi/14)", 0.0},
+      {"tanh(1e300)", 1.0},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.constant);
+    KFormula f = parse_k("(" + c.constant + ")*q + p");
+    const double folded = evaluate_k(f, {{"q", 1.0}, {"p", 0.0}});
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(folded), std::bit_cast<std::uint64_t>(c.expected))
+        << std::hexfloat << folded << " != " << c.expected;
+    const std::string code = body(scene_header(f, "Folded"));
+    EXPECT_NE(code.find("return " + shortest(c.expected) + " * q<0>(x) + p<0>(x)"), std::string::npos) << code;
+  }
+  // glibc reduces sin's argument exactly too: an independent check where it rounds correctly
+  for (double x : {1e22, 1e100, 1e300, 0x1p1023, 1.7976931348623157e308})
+    EXPECT_EQ(evaluate_k(parse_k("sin(" + exact_integer(x) + ")*q + p"), {{"q", 1.0}, {"p", 0.0}}), std::sin(x)) << x;
+}
+
 // GiNaC's value at random points against the formula written in double arithmetic.
 TEST(KFormulaPrecision, ReferenceMatchesDirectEvaluation) {
   std::mt19937_64 rng(2024);
@@ -285,6 +372,107 @@ TEST(KFormulaPrecision, MissingValueNamesIt) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("gamma"), std::string::npos) << e.what();
   }
+}
+
+// ---- size: bounded stack, near-linear time, a documented limit (issue 22, item 8) --------------
+// Timings are not asserted here; README ("Your own scene") lists them.
+
+std::string repeated(const std::string& term, int n, const std::string& sep) {
+  std::string s;
+  s.reserve(static_cast<std::size_t>(n) * (term.size() + sep.size()));
+  for (int i = 0; i < n; ++i) s += (i ? sep : "") + term;
+  return s;
+}
+
+void expect_same_traits(const KFormula& a, const KFormula& b) {
+  EXPECT_EQ(a.traits.dof, b.traits.dof);
+  EXPECT_EQ(a.traits.time_dependent, b.traits.time_dependent);
+  EXPECT_EQ(a.traits.z_feeds_back, b.traits.z_feeds_back);
+  EXPECT_EQ(a.traits.kz_constant, b.traits.kz_constant);
+  EXPECT_EQ(a.traits.kz_state_free, b.traits.kz_state_free);
+  EXPECT_EQ(a.traits.p_in_forces, b.traits.p_in_forces);
+  EXPECT_EQ(a.traits.z_part, b.traits.z_part);
+  EXPECT_EQ(a.parameters, b.parameters);
+}
+
+// 30 000 terms (60 kB; 35 000 crashed the code generator, which recursed once per term): the
+// same traits and values as 30000*q, and every term in the generated code.
+TEST(KFormulaSize, LongSumIsItsSmallEquivalent) {
+  const int n = 30000;
+  KFormula big = parse_k("p^2/2 - gamma*z + " + repeated("q", n, "+"));
+  KFormula small = parse_k("p^2/2 - gamma*z + 30000*q");
+  ASSERT_LE(big.text.size(), kMaxFormulaLength);
+  expect_same_traits(big, small);
+  for (double q : {0.5, -1.25, 3.0})
+    for (const char* wrt : {"", "q", "p", "z"}) {
+      std::map<std::string, double> v{{"q", q}, {"p", 0.75}, {"z", 0.5}, {"gamma", 0.1}};
+      EXPECT_EQ(evaluate_k(big, v, wrt), evaluate_k(small, v, wrt)) << q << " " << wrt;
+    }
+  const std::string code = body(scene_header(big, "Big"));
+  std::size_t terms = 0;
+  for (std::size_t at = code.find("q<0>(x)"); at != std::string::npos; at = code.find("q<0>(x)", at + 1)) ++terms;
+  EXPECT_EQ(terms, static_cast<std::size_t>(n));
+}
+
+TEST(KFormulaSize, BeyondTheLimitIsRefused) {
+  const std::string K = repeated("q", 35000, "+");  // 70 kB
+  try {
+    parse_k(K);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.K: is 69999 bytes long; K takes at most 65536"), std::string::npos)
+        << e.what();
+  }
+}
+
+// A sum of 200 poles took 68 s in GiNaC's normal form (common denominator of degree 200).
+TEST(KFormulaSize, SumOfPoles) {
+  std::string K = "p^2/2 - gamma*z";
+  for (int k = 1; k <= 200; ++k) K += " + 1/(q-" + std::to_string(k) + ")";
+  KFormula f = parse_k(K);
+  EXPECT_EQ(f.traits.dof, 1);
+  EXPECT_FALSE(f.traits.z_feeds_back);
+  EXPECT_TRUE(f.traits.kz_constant);
+  EXPECT_FALSE(f.traits.p_in_forces);
+  EXPECT_EQ(f.traits.z_part, ZPart::linear);
+  long double sum = 0, slope = 0;
+  for (int k = 200; k >= 1; --k) {
+    sum += 1.0L / (0.5L - k);
+    slope -= 1.0L / ((0.5L - k) * (0.5L - k));
+  }
+  std::map<std::string, double> v{{"q", 0.5}, {"p", 0.0}, {"z", 0.0}, {"gamma", 0.1}};
+  EXPECT_NEAR(evaluate_k(f, v), static_cast<double>(sum), 1e-15 * std::fabs(static_cast<double>(sum)));
+  EXPECT_NEAR(evaluate_k(f, v, "q"), static_cast<double>(slope), 1e-15 * std::fabs(static_cast<double>(slope)));
+}
+
+// A product of 1100 factors: GiNaC's derivative alone took 1.1 s per partial (n products of
+// n − 1 factors), 35 s at 30 kB. Its traits are read off the structure, and match those of the
+// same K with 20 factors, analysed symbolically.
+TEST(KFormulaSize, LongProductHasTheTraitsOfAShortOne) {
+  auto product = [](int n) {
+    std::string s = "c";
+    for (int k = 1; k <= n; ++k) s += "*(q+" + std::to_string(k) + ")";
+    return s;
+  };
+  for (const std::string& rest : {std::string(" - gamma*z"), std::string("*z - gamma*z"),
+                                   std::string("*p*sin(t) + z^2")}) {
+    SCOPED_TRACE(rest);
+    KFormula big = parse_k("p^2/2 + " + product(1100) + rest);
+    KFormula small = parse_k("p^2/2 + " + product(20) + rest);
+    expect_same_traits(big, small);
+  }
+  KFormula f = parse_k("p^2/2 + " + product(1100) + " - gamma*z");
+  EXPECT_EQ(evaluate_k(f, {{"q", -1.0}, {"p", 2.0}, {"z", 1.0}, {"c", 3.0}, {"gamma", 0.5}}), 1.5);
+}
+
+// ((q+1)^64 + 1)^64 ...: expanding it was estimated small (a difference of two lgamma of 1e37)
+// and then threw std::length_error from GiNaC (exit 1 "vector::reserve").
+TEST(KFormulaSize, TowerOfPowers) {
+  KFormula f = parse_k("(((q+1)^64+1)^64+1)^64 + p^2/2");
+  EXPECT_EQ(f.traits.z_part, ZPart::linear);
+  EXPECT_FALSE(f.traits.p_in_forces);
+  EXPECT_EQ(evaluate_k(f, {{"q", -1.0}, {"p", 0.0}}), 0x1p64);  // ((0 + 1)^64 + 1)^64 = 2^64
+  EXPECT_EQ(evaluate_k(f, {{"q", -1.0}, {"p", 4.0}}), 0x1p64 + 8.0);  // rounds to 2^64
 }
 
 // ---- the generated header ----------------------------------------------------------------------

@@ -39,7 +39,13 @@ std::shared_ptr<const CustomScene> make_custom_scene(const std::string& K,
   info.default_h = 0.01;
   info.default_t_end = 100.0;
   scene->struct_name = "CustomScene";
-  scene->header = scene_header(f, scene->struct_name);
+  try {
+    scene->header = scene_header(f, scene->struct_name);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // as in parse_k: every failure on K is bad input
+    throw InputError(std::string("scene.K: could not be analysed: ") + e.what());
+  }
   return scene;
 }
 

@@ -25,7 +25,9 @@ std::vector<std::string> sorted_parameters(const Parsed& parsed) {
 
 }  // namespace
 
-KFormula parse_k(const std::string& text) {
+namespace {
+
+KFormula parse_and_analyse(const std::string& text) {
   Parsed parsed = parse(text);
   KFormula f;
   f.text = text;
@@ -38,6 +40,18 @@ KFormula parse_k(const std::string& text) {
   // Generate once so that every refusal (a constant beyond the double range, ...) happens here.
   return_statement(parsed, fields_of(f.parameters));
   return f;
+}
+
+}  // namespace
+
+KFormula parse_k(const std::string& text) {
+  try {
+    return parse_and_analyse(text);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // GiNaC's or CLN's, std::bad_alloc, std::length_error
+    throw InputError(std::string("scene.K: could not be analysed: ") + e.what());
+  }
 }
 
 double evaluate_k(const KFormula& f, const std::map<std::string, double>& values, const std::string& wrt) {
@@ -67,10 +81,8 @@ double evaluate_k(const KFormula& f, const std::map<std::string, double>& values
     substitutions[symbol] = exact_of(value->second);
   }
   try {
-    DigitsGuard digits;
-    ex v = e.subs(substitutions).evalf();
-    if (!is_a<numeric>(v) || !ex_to<numeric>(v).is_real()) return std::numeric_limits<double>::quiet_NaN();
-    return double_of(ex_to<numeric>(v));
+    const ConstantValue v = constant_value(e.subs(substitutions));
+    return v.kind == ConstantValue::finite ? v.value : std::numeric_limits<double>::quiet_NaN();
   } catch (const std::exception&) {
     return std::numeric_limits<double>::quiet_NaN();  // a pole: 1/q at q = 0
   }

@@ -19,6 +19,7 @@
 // Not thread-safe (GiNaC keeps global state): parse and generate from one thread.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,6 +32,10 @@ namespace cs {
 
 // The highest index N of q1…qN, p1…pN accepted (the kernel is compiled for N).
 inline constexpr int kMaxFormulaDof = 64;
+
+// The longest K accepted, in bytes. Parsing, analysis and code generation run in bounded stack
+// and near-linear time (a 64 kB K of 3000 terms in about a second); beyond this K is refused.
+inline constexpr std::size_t kMaxFormulaLength = 65536;
 
 struct KTraits {
   int dof = 0;                  // 1 for q, p; N = the highest index written for q1..qN, p1..pN
@@ -54,7 +59,8 @@ struct KFormula {
 };
 
 // Parses and analyses K. Bad input throws InputError; every message starts with "scene.K: " and
-// names the symbol, function or column at fault.
+// names the symbol, function or column at fault. Any other failure while handling K (GiNaC or
+// CLN giving up, memory) is an InputError too, never another exception.
 KFormula parse_k(const std::string& text);
 
 // The C++ scene header for f (from parse_k), a struct named struct_name in namespace cs. K is
@@ -70,8 +76,8 @@ std::string scene_header(const KFormula& f, const std::string& struct_name);
 std::vector<std::string> parameter_fields(const KFormula& f);
 
 // K, or its partial derivative by the variable named `wrt` ("q", "p2", "z", "t"), evaluated with
-// GiNaC at 40 digits from the exact values of the doubles given and rounded to the nearest
-// double: a reference for checks of the compiled scene. `values` must hold every variable and
+// GiNaC and CLN from the exact values of the doubles given, at as many digits as it takes to round
+// to the nearest double (as constants of K are folded): a reference for checks of the compiled scene. `values` must hold every variable and
 // parameter K depends on (an InputError names a missing one); NaN where K is not real or finite.
 double evaluate_k(const KFormula& f, const std::map<std::string, double>& values,
                   const std::string& wrt = "");

@@ -1,5 +1,7 @@
 // scene.K's lexer and parser: the text to a tree as written and its GiNaC expression, with
 // the column of every error. The grammar, and why GiNaC's own parser is not used: k_formula.hpp.
+#include <cln/rational.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -16,6 +18,23 @@
 namespace cs::k_formula {
 
 [[noreturn]] void fail(const std::string& message) { throw InputError("scene.K: " + message); }
+
+Node::~Node() {
+  // Children owned by this node alone are taken apart here, one at a time, rather than by their
+  // own destructors in a recursion as deep as the tree.
+  std::vector<NodePtr> pending;
+  pending.push_back(std::move(a));
+  pending.push_back(std::move(b));
+  while (!pending.empty()) {
+    NodePtr n = std::move(pending.back());
+    pending.pop_back();
+    if (n && n.use_count() == 1) {
+      auto& owned = const_cast<Node&>(*n);  // made non-const by make_shared<Node>
+      pending.push_back(std::move(owned.a));
+      pending.push_back(std::move(owned.b));
+    }
+  }
+}
 
 namespace {
 
@@ -106,6 +125,17 @@ bool even_mantissa(double x) {
 // own conversion is only the starting guess: its neighbours are compared exactly.
 double nearest_double(const numeric& r) {
   if (r.is_zero()) return 0.0;
+  // Below the smallest normal double the doubles are k·2^−1074: k is r·2^1074 rounded, exactly
+  // (CLN's conversion flushes these to 0, and 4.2e-322 is 85 steps away from there).
+  const numeric subnormal_unit = numeric(1) / numeric(2).power(1074);
+  if (abs(r) < exact_of(std::numeric_limits<double>::min())) {
+    const numeric scaled = abs(r) / subnormal_unit;
+    numeric k(cln::floor1(cln::the<cln::cl_RA>(scaled.to_cl_N())));
+    const numeric rest = scaled - k;
+    if (rest > numeric(1, 2) || (rest == numeric(1, 2) && k.is_odd())) k = k + 1;
+    const double x = std::ldexp(k.to_double(), -1074);
+    return r < 0 ? -x : x;
+  }
   double x = r.to_double();
   if (!std::isfinite(x)) x = r > 0 ? std::numeric_limits<double>::max() : -std::numeric_limits<double>::max();
   constexpr double inf = std::numeric_limits<double>::infinity();
@@ -132,9 +162,6 @@ double nearest_double(const numeric& r) {
   }
   return x;
 }
-
-// The nearest double of a real numeric (exact rationals exactly; CLN floats by CLN).
-double double_of(const numeric& n) { return n.is_rational() ? nearest_double(n) : n.to_double(); }
 
 // The shortest decimal that reads back as x, always with a '.' or an exponent (a double literal).
 std::string double_literal(double x) {
@@ -332,10 +359,17 @@ void refuse_reserved_parameter(const std::string& name, const std::string& text,
   }
 }
 
-NodePtr make_node(Node::Kind kind, ex value, NodePtr a = {}, NodePtr b = {}, std::string text = {}) {
+bool has_no_symbol(const ex& e) {
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::symbol>(*it)) return false;
+  return true;
+}
+
+std::shared_ptr<Node> make_node(Node::Kind kind, ex value, NodePtr a = {}, NodePtr b = {}, std::string text = {}) {
   auto n = std::make_shared<Node>();
   n->kind = kind;
   n->value = std::move(value);
+  n->constant = has_no_symbol(n->value);
   n->a = std::move(a);
   n->b = std::move(b);
   n->text = std::move(text);
@@ -391,50 +425,72 @@ class Parser {
 
   // A constant made by a function or a power must be real: sqrt(-1), log(-2), asin(2) are not.
   void check_real(const ex& e, std::size_t from) const {
-    std::string excerpt = text_.substr(from, (cur_.kind == Token::end ? text_.size() : cur_.offset) - from);
-    excerpt.erase(excerpt.find_last_not_of(" \t\r\n") + 1);
-    std::string message = excerpt + " at " + at(from) + " is not real; K must be real-valued";
-    if (e.has(GiNaC::I)) fail(message);
-    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
-      if (is_a<GiNaC::symbol>(*it)) return;
-    DigitsGuard digits;
-    ex v = e.evalf();
-    if (is_a<numeric>(v) && !ex_to<numeric>(v).is_real()) fail(message);
+    // The message only on failure: its column costs a scan of the text up to `from`.
+    auto refuse = [&](const std::string& problem) {
+      std::string excerpt = text_.substr(from, (cur_.kind == Token::end ? text_.size() : cur_.offset) - from);
+      excerpt.erase(excerpt.find_last_not_of(" \t\r\n") + 1);
+      fail(excerpt + " at " + at(from) + " " + problem);
+    };
+    if (e.has(GiNaC::I)) refuse(constant_problem(ConstantValue::not_real));
+    if (!has_no_symbol(e)) return;
+    // A constant beyond the double range is judged where it is folded (scene_codegen.cpp): it may
+    // be part of a constant that is not (1/exp(1000) is 0.0).
+    const ConstantValue v = constant_value(e);
+    if (v.kind == ConstantValue::not_real || v.kind == ConstantValue::pole) refuse(constant_problem(v.kind));
   }
 
   void enter(std::size_t offset) {
     if (++depth_ > 200) syntax(offset, "nested too deeply");
   }
 
-  NodePtr binary(const Token& op, const NodePtr& lhs, const NodePtr& rhs) {
-    const ex &l = lhs->value, &r = rhs->value;
-    switch (op.text[0]) {
-      case '+': return make_node(Node::add, guarded(op.offset, "'+'", [&] { return l + r; }), lhs, rhs);
-      case '-': return make_node(Node::sub, guarded(op.offset, "'-'", [&] { return l - r; }), lhs, rhs);
-      case '*': return make_node(Node::mul, guarded(op.offset, "'*'", [&] { return l * r; }), lhs, rhs);
-      default: return make_node(Node::div, guarded(op.offset, "'/'", [&] { return l / r; }), lhs, rhs);
+  // a ± b ± c … and a */ b */ c …: the tree as written, left-deep, and the chain's GiNaC value
+  // made once from all its operands (adding one term at a time copies the sum so far: quadratic
+  // in its length). A node inside the chain carries a value only when it is constant (then it
+  // may be folded); q − q + p folds q − q no more, the chain as a whole still would.
+  NodePtr parse_chain(bool sum) {
+    NodePtr lhs = sum ? parse_product() : parse_unary();
+    auto continues = [&] { return sum ? at_op('+') || at_op('-') : at_op('*') || at_op('/'); };
+    if (!continues()) return lhs;
+    const std::size_t first_op = cur_.offset;
+    GiNaC::exvector operands{lhs->value};
+    std::shared_ptr<Node> node;
+    while (continues()) {
+      const Token op = cur_;
+      advance();
+      NodePtr rhs = sum ? parse_product() : parse_unary();
+      const char c = op.text[0];
+      const ex& r = rhs->value;
+      operands.push_back(c == '+' || c == '*' ? r
+                         : c == '-'           ? -r
+                                              : guarded(op.offset, "'/'", [&] { return GiNaC::pow(r, -1); }));
+      node = std::make_shared<Node>();
+      node->kind = c == '+' ? Node::add : c == '-' ? Node::sub : c == '*' ? Node::mul : Node::div;
+      node->constant = lhs->constant && rhs->constant;
+      if (node->constant) {
+        const ex& l = lhs->value;
+        node->value = guarded(op.offset, std::string("'") + c + "'", [&]() -> ex {
+          switch (c) {
+            case '+': return l + r;
+            case '-': return l - r;
+            case '*': return l * r;
+            default: return l / r;
+          }
+        });
+      }
+      node->a = std::move(lhs);
+      node->b = std::move(rhs);
+      lhs = node;
     }
+    node->value = guarded(first_op, sum ? "the sum" : "the product", [&]() -> ex {
+      if (sum) return GiNaC::add(operands);
+      return GiNaC::mul(operands);
+    });
+    node->constant = has_no_symbol(node->value);
+    return node;
   }
 
-  NodePtr parse_sum() {
-    NodePtr lhs = parse_product();
-    while (at_op('+') || at_op('-')) {
-      Token op = cur_;
-      advance();
-      lhs = binary(op, lhs, parse_product());
-    }
-    return lhs;
-  }
-
-  NodePtr parse_product() {
-    NodePtr lhs = parse_unary();
-    while (at_op('*') || at_op('/')) {
-      Token op = cur_;
-      advance();
-      lhs = binary(op, lhs, parse_unary());
-    }
-    return lhs;
-  }
+  NodePtr parse_sum() { return parse_chain(true); }
+  NodePtr parse_product() { return parse_chain(false); }
 
   NodePtr parse_unary() {
     if (at_op('+') || at_op('-')) {
@@ -596,6 +652,9 @@ class Parser {
 }  // namespace
 
 Parsed parse(const std::string& text) {
+  if (text.size() > kMaxFormulaLength)
+    fail("is " + std::to_string(text.size()) + " bytes long; K takes at most " +
+         std::to_string(kMaxFormulaLength) + " (write a long sum with fewer terms, or split it into parameters)");
   Parsed parsed;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <map>
+#include <optional>
 #include <vector>
 
 #include "formula/k_tree.hpp"
@@ -24,18 +26,42 @@ double expanded_terms(const ex& e) {
   }
   if (is_a<GiNaC::power>(e) && is_a<numeric>(e.op(1)) && ex_to<numeric>(e.op(1)).is_pos_integer()) {
     double m = expanded_terms(e.op(0)), n = ex_to<numeric>(e.op(1)).to_double();
-    if (n > 1000) return m > 1 ? 1e300 : 1;
-    return std::exp(std::lgamma(m + n) - std::lgamma(n + 1) - std::lgamma(m));  // C(m + n − 1, n)
+    if (m <= 1) return 1;
+    // C(m + n − 1, n) ≤ (m + n − 1)^n / n!, in logarithms: a difference of two lgamma of 1e37
+    // loses every digit, and ((q+1)^64 + 1)^64 passed for small (its expand then threw).
+    return std::exp(std::min(700.0, n * std::log(m + n - 1) - std::lgamma(n + 1)));
   }
   return 1;
 }
 
+// Terms after expansion beyond which K is not expanded, and, separately, the size up to which
+// GiNaC's normal form (common denominators: polynomial gcds) is tried. Both only ever hide a
+// cancellation, which makes the dependencies read off the result too many: safe (z integrated,
+// not splittable, ...). normal() of 200 poles 1/(q − k) took 68 s (its cost grows as N^2.2).
+constexpr double kMaxExpandedTerms = 2e4;
+constexpr std::size_t kMaxNormalTerms = 64;
+constexpr int kMaxNormalDenominators = 4;
+
+// The number of distinct non-numeric denominators of the terms of e (bases of negative powers).
+int denominators(const ex& e) {
+  GiNaC::exset bases;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::power>(*it) && is_a<numeric>(it->op(1)) && ex_to<numeric>(it->op(1)).is_negative() &&
+        !is_a<numeric>(it->op(0))) {
+      bases.insert(it->op(0));
+      if (static_cast<int>(bases.size()) > kMaxNormalDenominators) break;
+    }
+  return static_cast<int>(bases.size());
+}
+
 // Expanded and normalised, so that cancellations show (z·q − q·z has no z); left as it is when
-// expanding would be too big (a K like (q1 + … + q64)^8): the dependencies read off it are then
-// only ever too many, which is safe (z integrated, not splittable, ...).
+// expanding would be too big (a K like (q1 + … + q64)^8), and not normalised when it has many
+// terms or denominators.
 ex simplified(const ex& e) {
-  if (expanded_terms(e) > 2e4) return e;
+  if (expanded_terms(e) > kMaxExpandedTerms) return e;
   ex r = e.expand();
+  const std::size_t terms = is_a<GiNaC::add>(r) ? r.nops() : 1;
+  if (terms > kMaxNormalTerms || denominators(r) > kMaxNormalDenominators) return r;
   try {
     r = GiNaC::normal(r);
   } catch (const std::exception&) {
@@ -48,19 +74,147 @@ bool depends_on_any(const ex& e, const std::vector<GiNaC::realsymbol>& symbols) 
   return std::any_of(symbols.begin(), symbols.end(), [&](const auto& s) { return e.has(s); });
 }
 
-}  // namespace
+// The z part from K's terms with p or z (the others, V(q, t), cannot change it): K − Σ p²/2
+// free of p, then R = c·z + V or c·z² + V with c = c(t).
+std::optional<ZPart> z_part_of(const ex& K, const Parsed& f) {
+  ex kinetic = 0;
+  for (const auto& p : f.p) kinetic += GiNaC::pow(p, 2) / 2;
+  ex R = simplified(K - kinetic);
+  if (depends_on_any(R, f.p)) return std::nullopt;
+  ex Kz = simplified(K.diff(f.z));
+  auto free_of_state = [&](const ex& e) { return !depends_on_any(e, f.q) && !e.has(f.z); };
+  if (Kz.is_zero()) return ZPart::linear;  // no z at all: c = 0
+  if (free_of_state(Kz)) {
+    if (!simplified(R - Kz * f.z).has(f.z)) return ZPart::linear;
+    return std::nullopt;
+  }
+  ex Kzz = simplified(Kz.diff(f.z));
+  if (!Kzz.is_zero() && free_of_state(Kzz) && simplified(Kz - Kzz * f.z).is_zero() &&
+      !simplified(R - Kzz / 2 * GiNaC::pow(f.z, 2)).has(f.z))
+    return ZPart::quadratic;
+  return std::nullopt;
+}
 
-KTraits analyse(const Parsed& f) {
+// GiNaC's derivative of a product of n factors is n products of n − 1: a K of 1100 factors
+// (q + 1)(q + 2)… took 1.1 s per partial, 35 s at 30 kB. This estimates that work.
+double derivative_cost(const ex& e) {
+  double cost = 0;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    cost += 1;
+    if (is_a<GiNaC::mul>(*it)) cost += static_cast<double>(it->nops()) * static_cast<double>(it->nops());
+  }
+  return cost;
+}
+constexpr double kMaxDerivativeCost = 1e5;
+
+void symbols_of(const ex& e, GiNaC::exset& out) {
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::symbol>(*it)) out.insert(*it);
+}
+
+// A superset of the symbols of ∂e/∂x, without differentiating: a sum's terms one by one, the
+// other factors of a product with x in one factor only, b^k as b, anything else all of e.
+void partial_symbols(const ex& e, const ex& x, GiNaC::exset& out) {
+  if (!e.has(x) || e.is_equal(x)) return;
+  if (is_a<GiNaC::add>(e)) {
+    for (std::size_t i = 0; i < e.nops(); ++i) partial_symbols(e.op(i), x, out);
+    return;
+  }
+  if (is_a<GiNaC::mul>(e)) {
+    std::size_t with_x = 0, last = 0;
+    for (std::size_t i = 0; i < e.nops(); ++i)
+      if (e.op(i).has(x)) ++with_x, last = i;
+    if (with_x == 1) {
+      for (std::size_t i = 0; i < e.nops(); ++i)
+        if (i != last) symbols_of(e.op(i), out);
+      partial_symbols(e.op(last), x, out);
+      return;
+    }
+  } else if (is_a<GiNaC::power>(e) && is_a<numeric>(e.op(1))) {
+    symbols_of(e.op(0), out);
+    partial_symbols(e.op(0), x, out);
+    return;
+  }
+  symbols_of(e, out);
+}
+
+// Traits of a K too big to differentiate: read off partial_symbols, so a dependency may be
+// reported that a cancellation would remove (safe: z integrated, ...); the z part from the
+// terms with p or z, when those are small.
+KTraits structural_traits(const Parsed& f) {
   KTraits tr;
   tr.dof = f.dof;
   tr.indexed = f.indexed;
   const ex& K = f.K;
+  auto partial = [&](const ex& x) {
+    GiNaC::exset s;
+    partial_symbols(K, x, s);
+    return s;
+  };
+  auto has_any = [](const GiNaC::exset& s, const std::vector<GiNaC::realsymbol>& symbols) {
+    return std::any_of(symbols.begin(), symbols.end(), [&](const auto& x) { return s.count(x) > 0; });
+  };
+  const GiNaC::exset Kz = partial(f.z);
+  tr.time_dependent = K.has(f.t);
+  tr.z_feeds_back = Kz.count(f.z) > 0;
+  for (int i = 0; i < f.dof; ++i) {
+    const GiNaC::exset Kq = partial(f.q[i]), Kp = partial(f.p[i]);
+    tr.z_feeds_back = tr.z_feeds_back || Kq.count(f.z) > 0 || Kp.count(f.z) > 0;
+    tr.p_in_forces = tr.p_in_forces || has_any(Kq, f.p);
+  }
+  tr.kz_state_free = !has_any(Kz, f.q) && !has_any(Kz, f.p) && !Kz.count(f.z);
+  tr.kz_constant = tr.kz_state_free && !Kz.count(f.t);
+  tr.p_in_forces = tr.p_in_forces || has_any(Kz, f.p);
+  GiNaC::exvector terms;
+  for (std::size_t i = 0; i < (is_a<GiNaC::add>(K) ? K.nops() : 1); ++i) {
+    const ex term = is_a<GiNaC::add>(K) ? K.op(i) : K;
+    if (term.has(f.z) || depends_on_any(term, f.p)) terms.push_back(term);
+  }
+  const ex pz = GiNaC::add(terms);
+  if (derivative_cost(pz) <= kMaxDerivativeCost) tr.z_part = z_part_of(pz, f);
+  return tr;
+}
+
+}  // namespace
+
+// ∂K/∂x from the terms of K that contain x: with 64 degrees of freedom K has 129 partials, and
+// differentiating every term for each took 4 s for 2000 terms.
+class Partials {
+ public:
+  explicit Partials(const ex& K) {
+    const std::size_t n = is_a<GiNaC::add>(K) ? K.nops() : 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const ex term = is_a<GiNaC::add>(K) ? K.op(i) : K;
+      GiNaC::exset symbols;
+      symbols_of(term, symbols);
+      for (const ex& s : symbols) terms_with_[s].push_back(term);
+    }
+  }
+  ex operator()(const ex& x) const {
+    auto it = terms_with_.find(x);
+    if (it == terms_with_.end()) return 0;
+    GiNaC::exvector parts;
+    for (const ex& term : it->second) parts.push_back(term.diff(ex_to<GiNaC::symbol>(x)));
+    return GiNaC::add(parts);
+  }
+
+ private:
+  std::map<ex, GiNaC::exvector, GiNaC::ex_is_less> terms_with_;
+};
+
+KTraits analyse(const Parsed& f) {
+  if (derivative_cost(f.K) > kMaxDerivativeCost) return structural_traits(f);
+  KTraits tr;
+  tr.dof = f.dof;
+  tr.indexed = f.indexed;
+  const ex& K = f.K;
+  const Partials partial(K);
   std::vector<ex> Kq, Kp;
   for (int i = 0; i < f.dof; ++i) {
-    Kq.push_back(simplified(K.diff(f.q[i])));
-    Kp.push_back(simplified(K.diff(f.p[i])));
+    Kq.push_back(simplified(partial(f.q[i])));
+    Kp.push_back(simplified(partial(f.p[i])));
   }
-  ex Kz = simplified(K.diff(f.z));
+  ex Kz = simplified(partial(f.z));
   tr.time_dependent = simplified(K).has(f.t);
   auto has_z = [&](const ex& e) { return e.has(f.z); };
   tr.z_feeds_back = std::any_of(Kq.begin(), Kq.end(), has_z) ||
@@ -69,23 +223,7 @@ KTraits analyse(const Parsed& f) {
   tr.kz_constant = tr.kz_state_free && !Kz.has(f.t);
   auto has_p = [&](const ex& e) { return depends_on_any(e, f.p); };
   tr.p_in_forces = std::any_of(Kq.begin(), Kq.end(), has_p) || has_p(Kz);
-
-  // z part: K − Σ p²/2 free of p, then R = c·z + V or c·z² + V with c = c(t).
-  ex kinetic = 0;
-  for (const auto& p : f.p) kinetic += GiNaC::pow(p, 2) / 2;
-  ex R = simplified(K - kinetic);
-  if (depends_on_any(R, f.p)) return tr;
-  auto free_of_state = [&](const ex& e) { return !depends_on_any(e, f.q) && !e.has(f.z); };
-  if (Kz.is_zero()) {
-    tr.z_part = ZPart::linear;  // no z at all: c = 0
-  } else if (free_of_state(Kz)) {
-    if (!simplified(R - Kz * f.z).has(f.z)) tr.z_part = ZPart::linear;
-  } else {
-    ex Kzz = simplified(Kz.diff(f.z));
-    if (!Kzz.is_zero() && free_of_state(Kzz) && simplified(Kz - Kzz * f.z).is_zero() &&
-        !simplified(R - Kzz / 2 * GiNaC::pow(f.z, 2)).has(f.z))
-      tr.z_part = ZPart::quadratic;
-  }
+  tr.z_part = z_part_of(K, f);
   return tr;
 }
 

@@ -22,22 +22,18 @@ using GiNaC::numeric;
 // Throws the InputError of a bad K: "scene.K: " + message.
 [[noreturn]] void fail(const std::string& message);
 
-// GiNaC's precision is a global; numeric checks run at 40 digits and restore it.
-class DigitsGuard {
- public:
-  DigitsGuard() : saved_(GiNaC::Digits) { GiNaC::Digits = 40; }
-  ~DigitsGuard() { GiNaC::Digits = saved_; }
-  DigitsGuard(const DigitsGuard&) = delete;
-  DigitsGuard& operator=(const DigitsGuard&) = delete;
-
- private:
-  long saved_;
-};
-
 numeric exact_of(double x);                // the double's exact value
 double nearest_double(const numeric& r);   // r rational: correctly rounded
-double double_of(const numeric& n);        // nearest for rationals, else GiNaC's rounding
 std::string double_literal(double x);      // a C++ literal that reads back as x, bit for bit
+// The nearest double of a constant sub-expression of K (no symbols), evaluated with CLN at as
+// many digits as it needs (k_constant.cpp), or why there is none.
+struct ConstantValue {
+  enum Kind { finite, not_real, overflow, pole, unresolved } kind = finite;
+  double value = 0.0;  // when finite
+};
+ConstantValue constant_value(const ex& constant);
+std::string constant_problem(ConstantValue::Kind kind);  // "is beyond the range of a double", ...
+
 bool is_name_start(char c);
 bool is_name_char(char c);
 std::string join(const std::vector<std::string>& parts, const std::string& sep);
@@ -49,9 +45,16 @@ struct Node;
 using NodePtr = std::shared_ptr<const Node>;
 struct Node {
   enum Kind { number, name, neg, add, sub, mul, div, pow, call } kind = number;
+  // The subtree's value; inside a chain a ± b ± c (or a */ b */ c) only when constant (only the
+  // whole chain's value is made: k_parser.cpp).
   ex value;
+  bool constant = false;  // the value has no symbol (q − q is constant)
   NodePtr a, b;      // operands: a alone for neg and call
   std::string text;  // the name, or the function
+  Node() = default;
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+  ~Node();  // without recursion: a chain of 30 000 terms is as deep
 };
 
 struct Parsed {

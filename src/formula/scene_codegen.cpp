@@ -76,12 +76,6 @@ struct Code {
 
 std::string wrap(const Code& c, int min_prec) { return c.prec < min_prec ? "(" + c.s + ")" : c.s; }
 
-bool is_constant(const ex& e) {
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (is_a<GiNaC::symbol>(*it)) return false;
-  return true;
-}
-
 // The exact value when e is a rational number, else nullopt.
 std::optional<numeric> rational_of(const ex& e) {
   if (is_a<numeric>(e) && ex_to<numeric>(e).is_rational()) return ex_to<numeric>(e);
@@ -94,20 +88,11 @@ std::string to_string(const ex& e) {
   return os.str();
 }
 
-// The nearest double of a constant (exact for rationals, from 40 digits otherwise); refused when
-// it is not a finite real double.
-double constant_value(const ex& e) {
-  double x;
-  if (auto r = rational_of(e)) {
-    x = nearest_double(*r);
-  } else {
-    DigitsGuard digits;
-    ex v = e.evalf();
-    if (!is_a<numeric>(v) || !ex_to<numeric>(v).is_real()) fail(to_string(e) + " is not a real number");
-    x = double_of(ex_to<numeric>(v));
-  }
-  if (!std::isfinite(x)) fail("the constant " + to_string(e) + " is beyond the range of a double");
-  return x;
+// The nearest double of a constant (k_constant.cpp); refused when it is not a finite real double.
+double folded(const ex& e) {
+  const ConstantValue v = constant_value(e);
+  if (v.kind != ConstantValue::finite) fail("the constant " + to_string(e) + " " + constant_problem(v.kind));
+  return v.value;
 }
 
 // C++ for the tree as written: one operation per operation of K, in its order (left to right),
@@ -127,18 +112,34 @@ class CodeGen {
     for (const auto& [name, symbol] : f.parameters) names_[name] = "c." + fields[k++];
   }
 
+  // Left-deep chains (a + b + … as written) are walked in a loop, not a recursion as deep as the
+  // chain; everything else nests no deeper than the parser allows.
   Code gen(const Node& n) const {
-    if (is_constant(n.value)) return literal(constant_value(n.value));
+    if (n.constant) return literal(folded(n.value));
     switch (n.kind) {
       case Node::name: return {names_.at(n.text), kAtom, true};
       case Node::neg: return {"-" + wrap(gen(*n.a), kUnary), kUnary};
-      case Node::add: return {wrap(gen(*n.a), kSum) + " + " + wrap(gen(*n.b), kProduct), kSum};
-      case Node::sub: return {wrap(gen(*n.a), kSum) + " - " + wrap(gen(*n.b), kProduct), kSum};
+      case Node::add:
+      case Node::sub: {
+        std::vector<const Node*> spine;
+        const Node* m = &n;
+        for (; (m->kind == Node::add || m->kind == Node::sub) && !m->constant; m = m->a.get()) spine.push_back(m);
+        std::string s = wrap(gen(*m), kSum);
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it)
+          s += ((*it)->kind == Node::add ? " + " : " - ") + wrap(gen(*(*it)->b), kProduct);
+        return {std::move(s), kSum};
+      }
       case Node::mul:
       case Node::div: {
         if (auto x = half_square_of(n)) return {"half_square(" + gen(*x).s + ")", kAtom};
-        const char* op = n.kind == Node::mul ? " * " : " / ";
-        return {wrap(gen(*n.a), kProduct) + op + wrap(gen(*n.b), kAtom), kProduct};
+        std::vector<const Node*> spine;
+        const Node* m = &n;
+        for (; (m->kind == Node::mul || m->kind == Node::div) && !m->constant && !half_square_of(*m); m = m->a.get())
+          spine.push_back(m);
+        std::string s = wrap(gen(*m), kProduct);
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it)
+          s += ((*it)->kind == Node::mul ? " * " : " / ") + wrap(gen(*(*it)->b), kAtom);
+        return {std::move(s), kProduct};
       }
       case Node::pow: return gen_power(n);
       case Node::call: return {n.text + "(" + gen(*n.a).s + ")", kAtom};
@@ -153,7 +154,7 @@ class CodeGen {
     if (whole.s.size() <= 80 || whole.prec != kSum) return whole.s;
     std::vector<std::pair<const char*, const Node*>> terms;  // the left spine of + and −
     const Node* n = &root;
-    while ((n->kind == Node::add || n->kind == Node::sub) && !is_constant(n->value)) {
+    while ((n->kind == Node::add || n->kind == Node::sub) && !n->constant) {
       terms.emplace_back(n->kind == Node::add ? "+ " : "- ", n->b.get());
       n = n->a.get();
     }
@@ -164,18 +165,19 @@ class CodeGen {
   }
 
  private:
-  static Code literal(double x) { return {double_literal(x), x < 0 ? kUnary : kAtom, true}; }
+  static Code literal(double x) { return {double_literal(x), std::signbit(x) ? kUnary : kAtom, true}; }
 
   static bool constant_equals(const Node& n, const numeric& v) {
+    if (!n.constant) return false;
     auto r = rational_of(n.value);
-    return is_constant(n.value) && r && *r == v;
+    return r && *r == v;
   }
 
   // x^2/2, x^2*(1/2) or (1/2)*x^2 → x: half_square(x) has the partial x·x' with no arithmetic
   // (physics/dual.hpp) and the same value.
   static const Node* half_square_of(const Node& n) {
     auto is_square = [](const Node& m) {
-      return m.kind == Node::pow && !is_constant(m.value) && constant_equals(*m.b, 2);
+      return m.kind == Node::pow && !m.constant && constant_equals(*m.b, 2);
     };
     if (n.kind == Node::div && is_square(*n.a) && constant_equals(*n.b, 2)) return n.a->a.get();
     if (n.kind == Node::mul && is_square(*n.a) && constant_equals(*n.b, numeric(1, 2))) return n.a->a.get();
@@ -207,7 +209,7 @@ class CodeGen {
 
   Code gen_power(const Node& n) const {
     Code b = gen(*n.a);
-    std::optional<numeric> r = is_constant(n.b->value) ? rational_of(n.b->value) : std::nullopt;
+    std::optional<numeric> r = n.b->constant ? rational_of(n.b->value) : std::nullopt;
     if (r && !r->is_zero()) {
       numeric a = abs(*r);
       std::optional<Code> pos;
