@@ -58,6 +58,7 @@ class BlockRunner {
     std::int64_t n = 0;       // steps done
     bool trapped = false;     // basin decided by the energy trap
     bool settled = false;     // attractor found (BasinMode::found)
+    bool non_finite = false;  // a trajectory sample written was not finite
     int period = 0;           // of the cycle it settled on
     std::array<double, N> attractor{};
     // Its stroboscopic samples (a forced scene's period), kept beside the books: a tracker is
@@ -202,6 +203,10 @@ class BlockRunner {
     if (strobe_) {
       main_cycles_[i] = CycleTracker<N>{};
       b.cycle = &main_cycles_[i];
+    }
+    if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
+      finish(b, x, c, LaneStatus::undefined_at_start);
+      return false;
     }
     if (Method::template breaks_down<S>(coef)) {
       observe(b, x, c);  // the initial state is sound; its first step is what breaks down
@@ -447,6 +452,20 @@ class BlockRunner {
     fin_count_ = 0;
   }
 
+  // The initial state and K, K_q, K_p, K_z there are finite (Lane–Emden's (2/t)·z at t = 0,
+  // log(q) at q < 0 are not).
+  static bool defined_at(const LaneState<D>& x, const Params& c) {
+    bool finite = std::isfinite(x.z) && std::isfinite(x.mu) &&
+                  std::isfinite(K<S>(x.q, x.p, x.z, c, x.t)) &&
+                  std::isfinite(K_z<S>(x.q, x.p, x.z, c, x.t));
+    for_each_dof<D>([&](auto i) {
+      finite = finite && std::isfinite(x.q[i]) && std::isfinite(x.p[i]) &&
+               std::isfinite(K_q<S, i>(x.q, x.p, x.z, c, x.t)) &&
+               std::isfinite(K_p<S, i>(x.q, x.p, x.z, c, x.t));
+    });
+    return finite;
+  }
+
   static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
     if (x.broken > 0.0) status = LaneStatus::breakdown;
     else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
@@ -473,7 +492,7 @@ class BlockRunner {
     if (plan_.samples > 0) {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
-        record_sample(b.point, b.n / every, x, c);
+        record_sample(b, b.n / every, x, c);
         b.samples_recorded = b.n / every + 1;
       }
     }
@@ -535,31 +554,52 @@ class BlockRunner {
     H = k == 0.0 ? 0.0 : std::copysign(std::exp(log_lambda_now + std::log(std::fabs(k))), k);
   }
 
-  void record_sample(std::int64_t point, std::int64_t sample, const LaneState<D>& x,
-                     const Params& c) {
+  void record_sample(Book& b, std::int64_t sample, const LaneState<D>& x, const Params& c) {
     double v[kMaxVars], H;
     state_values(x, c, v, H);
     const auto& map = plan_.map;
+    bool finite = true;
     for (int k = 0; k < kMaxVars; ++k)
-      if (map.traj_vars[k] >= 0) column(map.traj_vars[k], point)[sample] = v[k];
-    if (map.traj_H >= 0) column(map.traj_H, point)[sample] = H;
+      if (map.traj_vars[k] >= 0) {
+        column(map.traj_vars[k], b.point)[sample] = v[k];
+        finite = finite && std::isfinite(v[k]);
+      }
+    if (map.traj_H >= 0) {
+      column(map.traj_H, b.point)[sample] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (!finite) b.non_finite = true;
   }
 
+  // Writes a lane's results. A lane that ran (status ok) but wrote a value that is not finite
+  // where the dataset promises one (ln λ or H overflowing, z where K is undefined along the
+  // path) is flagged non_finite: its values are written as computed, its basin kept (decided on
+  // q and p, which are finite), and no cell with a non-finite value reads ok.
   void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     auto k = b.point;
     out_.lane_steps += b.n;
-    column(map.status, k)[0] = static_cast<double>(status);
     double v[kMaxVars], H;
     state_values(x, c, v, H);
-    if (status == LaneStatus::breakdown) {
+    if (status == LaneStatus::breakdown || status == LaneStatus::undefined_at_start) {
       for (auto& value : v) value = nan;
       H = nan;
     }
+    bool finite = !b.non_finite;
     for (int i = 0; i < kMaxVars; ++i)
-      if (map.final_vars[i] >= 0) column(map.final_vars[i], k)[0] = v[i];
-    if (map.final_H >= 0) column(map.final_H, k)[0] = H;
+      if (map.final_vars[i] >= 0) {
+        column(map.final_vars[i], k)[0] = v[i];
+        finite = finite && std::isfinite(v[i]);
+      }
+    if (map.final_H >= 0) {
+      column(map.final_H, k)[0] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (map.sync_r >= 0) finite = finish_sync(b, status) && finite;
+    if (map.basin >= 0) finish_basin(b, x, status);
+    if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
+    column(map.status, k)[0] = static_cast<double>(status);
     if (plan_.samples > 0 && status != LaneStatus::ok) {
       // A failed lane's trajectory ends where it failed: every sample not recorded while it was
       // healthy is NaN, including one due at the look that found it failed (b.n).
@@ -569,8 +609,6 @@ class BlockRunner {
         if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
       }
     }
-    if (map.basin >= 0) finish_basin(b, x, status);
-    if (map.sync_r >= 0) finish_sync(b, status);
   }
 
   // The label is provisional here (1: settled) except for the trap's ±1: the attractor table,
@@ -597,7 +635,9 @@ class BlockRunner {
     column(map.settle_time, b.point)[0] = ok ? b.settle_time : nan;
   }
 
-  void finish_sync(const Book& b, LaneStatus status) {
+  // False if a value it wrote is not finite where one exists (the frequency ratio of an
+  // oscillator at rest, sync_amplitude = 0, does not).
+  bool finish_sync(const Book& b, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     SyncResult r{nan, nan, nan, nan};
@@ -607,6 +647,9 @@ class BlockRunner {
     column(map.sync_phase_drift, b.point)[0] = r.phase_drift;
     column(map.sync_freq_ratio, b.point)[0] = r.freq_ratio;
     column(map.sync_amplitude, b.point)[0] = r.amplitude;
+    if (!(status == LaneStatus::ok && b.n >= sync_n1_)) return true;  // nothing measured
+    return std::isfinite(r.r) && std::isfinite(r.phase_drift) && std::isfinite(r.amplitude) &&
+           (std::isfinite(r.freq_ratio) || r.amplitude == 0.0);
   }
 
   const RunPlan& plan_;

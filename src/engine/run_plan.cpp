@@ -66,8 +66,10 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   // A cell no rank wrote must never read as "ok": sweep.cpp checks that every point was
   // computed before it writes, and the file's fill value says not_computed besides.
   map.status = add({"status", ElementType::uint8, false, "integration status", "",
-                    {0, 1, 2, kStatusNotComputed},
-                    "ok diverged integrator_breakdown not_computed", std::nullopt,
+                    {0, 1, 2, 3, 4, kStatusNotComputed},
+                    "ok diverged integrator_breakdown non_finite_output k_undefined_at_start "
+                    "not_computed",
+                    std::nullopt,
                     kStatusNotComputed});
 
   if (measures.final_state) {
