@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/attractor_table.hpp"
 #include "engine/block_runner.hpp"
 #include "numerics/contact_splitting.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
@@ -148,6 +149,11 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   auto add = [&](DatasetSpec d, std::int64_t width = 1, bool internal = false) {
     return add_column(std::move(d), width, internal);
   };
+  // Up to one attractor per point, each with its own label: checked here, before any work.
+  if (grid.size() > kMaxAttractors)
+    throw InputError(fmt::format("measures.basin: a basin map of {} points has more cells than "
+                                 "the {} labels an int32 holds; use a coarser grid",
+                                 grid.size(), kMaxAttractors));
   const bool trap = basin.exact_trap && scene.name == "double_well" && !spec.custom;
   basin_mode = trap ? BasinMode::trap : BasinMode::found;
   if (trap) {

@@ -1,5 +1,6 @@
 #include "parallel/basin_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -31,7 +32,7 @@ int first_parameter_axis(const RunSpec& spec) {
 }
 
 // Rank 0: every point's label, in grid order.
-std::vector<std::int8_t> labels_on_rank0(const RunPlan& whole,
+std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
                                          const std::vector<std::unique_ptr<BlockResults>>& results,
                                          MPI_Comm comm) {
   std::vector<double> mine;
@@ -42,11 +43,11 @@ std::vector<std::int8_t> labels_on_rank0(const RunPlan& whole,
     mine.insert(mine.end(), labels.begin(), labels.end());
   }
   const std::vector<double> all = gather(comm, mine, false);
-  std::vector<std::int8_t> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
+  std::vector<BasinLabel> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
   for (std::size_t k = 0; k < all.size();) {
     const auto begin = static_cast<std::int64_t>(all[k]), end = static_cast<std::int64_t>(all[k + 1]);
     for (std::int64_t i = begin; i < end; ++i)
-      labels[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
+      labels[static_cast<std::size_t>(i)] = static_cast<BasinLabel>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
     k += 2 + static_cast<std::size_t>(end - begin);
   }
   return labels;
@@ -63,8 +64,16 @@ BasinSummary summarise_basins(const RunPlan& whole,
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
   summary.table = merge_candidates(whole, gather(comm, candidates, true));
+  for (const ElementType type : {ElementType::int8, ElementType::int16, ElementType::int32}) {
+    summary.label_type = type;
+    const double limit = type == ElementType::int8 ? 127.0 : type == ElementType::int16 ? 32767.0
+                                                                                           : 2147483647.0;
+    if (std::all_of(summary.table.begin(), summary.table.end(),
+                    [&](const Attractor& a) { return a.label <= limit; }))
+      break;
+  }
   for (auto& block : results) label_block(whole, summary.table, *block);
-  const std::vector<std::int8_t> labels = labels_on_rank0(whole, results, comm);
+  const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   if (rank_of(comm) != 0) return summary;
   const BasinMapShape shape = map_shape(whole.spec);
@@ -79,7 +88,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
     const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
     for (std::int64_t v = 0; v < shape.dims[0]; ++v)
       summary.continuation_statistics.push_back(basin_statistics(
-          std::vector<std::int8_t>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
+          std::vector<BasinLabel>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
           slice));
   }
   return summary;
@@ -106,7 +115,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
                              {"attractor"},
                              std::move(values)});
   };
-  column("attractor_label", ElementType::int8, "label of the attractor in basin", labels);
+  column("attractor_label", basins.label_type, "label of the attractor in basin", labels);
   for (int k = 0; k < 2 * plan.scene.dof; ++k) {
     const VariableInfo& v = plan.scene.variables[static_cast<std::size_t>(k)];
     std::vector<double> values;
@@ -175,6 +184,17 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
                 [](const BasinStatistics& b) { return b.uncertainty_exponent; });
     }
   }
+}
+
+void add_names_to_layout(const RunPlan& plan, FileLayout& layout) {
+  BasinSummary names;
+  names.continuation_axis = first_parameter_axis(plan.spec);
+  const BasinMapShape shape = map_shape(plan.spec);
+  if (names.continuation_axis >= 0) names.continuation.resize(1);
+  if (names.continuation_axis == 0 && shape.plane_axes > 0 &&
+      shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1)
+    names.continuation_statistics.resize(1);
+  add_to_layout(names, plan, layout);
 }
 
 std::string describe(const BasinSummary& basins) {

@@ -220,6 +220,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   const SceneInfo* scene = &scene_of(spec);
   const MethodInfo* method = find_method(spec.method);
   RunPlan plan(spec, *scene, *method);  // the whole grid: datasets, layout
+  check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
   if (spec.custom) {
