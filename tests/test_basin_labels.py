@@ -21,7 +21,9 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
     V >= cos(0.148) = 0.989; less the margin h^2 kappa dE = 0.0025 * 1 * 2) is decided at t = 0
     with no step, so the lane-steps integrated are at most those of the cells above 0.98; inner
     cells end at their own well's minimum (k = -1, 0, 1), and the labels equal those of the run
-    without the trap.
+    without the trap. With gamma in {0, 0.5} as a grid axis (a box per parameter set, checked per
+    lane), `energy_trap` says the trap served the damped half and why not the other (no
+    dissipation), and the damped half is trapped as above.
 """
 import math
 import os
@@ -162,6 +164,70 @@ for name, scene, want in [("double_well", 'name = "double_well"\na = 1.0\ngamma 
         check("double well: flag_values -1 0 1",
               list(f["basin"].attrs["flag_values"]) == [-1, 0, 1]
               and f["basin"].attrs["flag_values"].dtype == np.int8)
+
+# --- item 11: the trap on [-3 pi, 3 pi] --------------------------------------------------------
+LO, HI, N, H, T_END = -3 * math.pi, 3 * math.pi, 512, 0.05, 200.0
+trap, log_trap = run(PENDULUM.format(t_end=T_END, lo=LO, hi=HI, n=N, basin="{}"), "pendulum_3pi")
+online, _ = run(PENDULUM.format(t_end=T_END, lo=LO, hi=HI, n=N, basin="{ exact_trap = false }"),
+                "pendulum_3pi_online")
+if trap is not None:
+    check("[-3 pi, 3 pi]: energy_trap = used", trap.attrs.get("energy_trap") == "used",
+          f"{trap.attrs.get('energy_trap')}")
+    check("[-3 pi, 3 pi]: the log says the trap was used", "energy trap: used" in log_trap,
+          log_trap.strip()[-500:])
+    q0 = trap["q_0"][...]
+    low = -np.cos(q0) < 0.98
+    settle = trap["settle_time"][...]
+    check("every cell with E0 < 0.98 is trapped at t = 0", (settle[low] == 0).all(),
+          f"{(settle[low] != 0).sum()} of {low.sum()} are not")
+    said = re.search(r"; ([0-9.e+]+) lane-steps integrated \(", log_trap)
+    steps = round((T_END) / H)
+    bound = (~low).sum() * steps
+    check(f"lane-steps integrated at most those of the {(~low).sum()} cells above E0 = 0.98 "
+          f"({bound / (N * steps):.3f} of the run)",
+          said is not None and float(said.group(1)) <= bound,
+          f"{said.group(1) if said else log_trap.strip()[-300:]} > {bound}")
+if trap is not None and online is not None:
+    check("without the trap: energy_trap says exact_trap = false",
+          online.attrs.get("energy_trap") == "not used: measures.basin.exact_trap = false")
+    check("[-3 pi, 3 pi]: every cell decided, with and without the trap",
+          (trap["basin"][...] != 0).all() and (online["basin"][...] != 0).all())
+    check("[-3 pi, 3 pi]: the labels with the trap equal those without",
+          (trap["basin"][...] == online["basin"][...]).all(),
+          f"{(trap['basin'][...] != online['basin'][...]).sum()} cells differ")
+    # The end cells sit on the maxima +-3 pi, between two wells: they are left out.
+    inner = np.abs(q0) < 3 * math.pi - 1e-9
+    at = trap["attractor_q"][...][trap["basin"][...] - 1]
+    check("[-3 pi, 3 pi]: each inner cell ends at its own well's minimum 2 pi k, k = -1, 0, 1",
+          np.allclose(at[inner], 2 * math.pi * wells(q0[inner]), atol=1e-3, rtol=0)
+          and set(wells(q0[inner])) == {-1, 0, 1})
+
+# Per parameter set: gamma = 0 has no trap (E never falls), gamma = 0.5 has one, in the box
+# chosen for it; each lane's box is its own (the per-lane screen of a parameter grid). 60 cells:
+# only the end cells sit on maxima (with 64, q0 = -pi and pi are grid points, equilibria too).
+N2 = 60
+both, log_both = run(PENDULUM.format(t_end=T_END, lo=LO, hi=HI, n=N2, basin="{}")
+                     .replace("[grid]", "[grid]\ngamma = { values = [0.0, 0.5] }"), "pendulum_gamma")
+if both is not None:
+    want = (f"used for {N2} of {2 * N2} cells; not for the others: no dissipation: the "
+            f"coefficient k of z in K is not negative, so the energy may rise ({N2} cells)")
+    check("gamma in {0, 0.5}: energy_trap says where the trap was used and why not elsewhere",
+          both.attrs.get("energy_trap") == want, f"{both.attrs.get('energy_trap')}")
+    q0 = both["q_0"][...]
+    low = -np.cos(q0) < 0.98
+    check("gamma = 0.5: every cell with E0 < 0.98 is trapped at t = 0",
+          (both["settle_time"][1, :][low] == 0).all())
+    inner = np.abs(q0) < 3 * math.pi - 1e-9
+    check("gamma = 0: no inner cell settles (no damping)", (both["basin"][0, :][inner] == 0).all())
+    said = re.search(r"; ([0-9.e+]+) lane-steps integrated \(", log_both)
+    steps = round(T_END / H)
+    bound = (N2 + (~low).sum()) * steps
+    check("gamma in {0, 0.5}: lane-steps at most the undamped row's and the damped cells' above 0.98",
+          said is not None and float(said.group(1)) <= bound, f"{said and said.group(1)} > {bound}")
+    labels = both["basin"][1, :][inner]
+    check("gamma = 0.5: each inner cell ends at its own well's minimum",
+          (labels > 0).all() and np.allclose(both["attractor_q"][...][labels - 1],
+                                             2 * math.pi * wells(q0[inner]), atol=1e-3, rtol=0))
 
 print(f"{'all checks passed' if failures == 0 else f'{failures} check(s) failed'}")
 sys.exit(1 if failures else 0)

@@ -92,7 +92,10 @@ class BlockRunner {
       fin_cycles_ = std::make_unique<CycleTracker<N>[]>(W);
     }
     energy_search_ = found && has_energy_trap<S>() && m.basin->exact_trap;
-    if (energy_search_) box_ = basin_box();
+    if (energy_search_) {
+      grid_box_ = basin_box();
+      if constexpr (Uniform) box_ = wells_for(uniform_params_).box;
+    }
     for (int k = 0; k < N && found; ++k) {
       angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
       angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
@@ -155,6 +158,8 @@ class BlockRunner {
       well_energy_[i] = -std::numeric_limits<double>::infinity();
       dwell_needed_[i] = std::numeric_limits<double>::infinity();
       for (int k = 0; k < N; ++k) anchor_[k][i] = 0.0;
+      if constexpr (!Uniform)
+        for (int d = 0; d < D; ++d) box_lo_[d][i] = box_hi_[d][i] = 0.0;
     }
   }
 
@@ -228,7 +233,12 @@ class BlockRunner {
       for (int d = 0; d < D; ++d) anchor_[d][i] = x.q[d], anchor_[D + d][i] = x.p[d];
       dwell_needed_[i] = plan_.attractors.dwell_samples;
     }
-    if (energy_search_ && !b.settled) well_energy_[i] = wells_for(c).trap_energy;
+    if (energy_search_ && !b.settled) {
+      const Wells<D>& wells = wells_for(c);
+      well_energy_[i] = wells.trap_energy;
+      if constexpr (!Uniform)
+        for (int d = 0; d < D; ++d) box_lo_[d][i] = wells.box.lo[d], box_hi_[d][i] = wells.box.hi[d];
+    }
     ++active_;
     if (steps_ < plan_.chunk) move_to_finisher(i);  // a run shorter than one chunk
     return true;
@@ -275,7 +285,8 @@ class BlockRunner {
         LookInt inside = 1;
         for (int d = 0; d < D; ++d) {
           q[d] = t.q[d][i], p[d] = t.p[d][i];
-          inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
+          if constexpr (Uniform) inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
+          else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
         }
         double energy;
         if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
@@ -300,9 +311,10 @@ class BlockRunner {
     return box;
   }
 
-  // The wells of one parameter set, found once per process and kept (~0.1 s for the magnetic
-  // pendulum; the same bits whichever thread finds them). Entries are never removed, so the
-  // references handed out stay valid; a grid has few distinct parameter sets.
+  // The wells of one parameter set, in the box find_wells() chose for it, found once per process
+  // and kept (~0.1 s for the magnetic pendulum; the same bits whichever thread finds them).
+  // Entries are never removed, so the references handed out stay valid; a grid has few
+  // distinct parameter sets.
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
@@ -314,21 +326,21 @@ class BlockRunner {
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
     for (const Known& k : known)
-      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == box_.lo && k.box.hi == box_.hi &&
-          k.h == h_)
+      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == grid_box_.lo &&
+          k.box.hi == grid_box_.hi && k.h == h_)
         return k.wells;
-    known.push_back({c, box_, h_, WellFinder<S>(c, box_, h_).find()});
+    known.push_back({c, grid_box_, h_, find_wells<S>(c, grid_box_, h_)});
     return known.back().wells;
   }
 
   // Settles a lane whose energy has fallen below its trap level, at its well's minimum.
   void check_energy_trap(Book& b, const LaneState<D>& x, const Params& c) {
     if constexpr (has_energy_trap<S>()) {
-      for (int d = 0; d < D; ++d)
-        if (!(x.q[d] >= box_.lo[d] && x.q[d] <= box_.hi[d])) return;
       const Wells<D>& wells = wells_for(c);
+      for (int d = 0; d < D; ++d)
+        if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
-      const auto bottom = WellFinder<S>(c, box_, h_).bottom(x.q, wells);
+      const auto bottom = WellFinder<S>(c, wells.box, h_).bottom(x.q, wells);
       if (!bottom) return;
       b.settled = true;
       b.period = 1;
@@ -598,6 +610,12 @@ class BlockRunner {
     }
     if (map.sync_r >= 0) finite = finish_sync(b, status) && finite;
     if (map.basin >= 0) finish_basin(b, x, status);
+    if (map.trap_verdict >= 0) {
+      TrapVerdict verdict = TrapVerdict::not_applicable;
+      if constexpr (has_energy_trap<S>())
+        if (energy_search_) verdict = wells_for(c).verdict;
+      column(map.trap_verdict, k)[0] = static_cast<double>(verdict);
+    }
     if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
     column(map.status, k)[0] = static_cast<double>(status);
     if (plan_.samples > 0 && status != LaneStatus::ok) {
@@ -665,7 +683,8 @@ class BlockRunner {
   std::unique_ptr<CycleTracker<N>[]> main_cycles_, fin_cycles_;  // per slot, when strobe_
   bool look_search_ = false;  // attractors looked for at every look (anchor_, near_)
   bool energy_search_ = false;  // the energy trap of K = T + V + k·z (energy_wells.hpp)
-  BasinBox<D> box_{};
+  BasinBox<D> grid_box_{};  // the map's positions, widened (basin_box)
+  BasinBox<D> box_{};       // the wells' box when Uniform (else per lane: box_lo_, box_hi_)
   double angle_period_[N] = {}, angle_frequency_[N] = {};
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
@@ -680,6 +699,8 @@ class BlockRunner {
   alignas(64) double near_[W];           // looks since then, all within the tolerance
   alignas(64) double dwell_needed_[W];   // looks that settle a lane (∞: not searching)
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
+  alignas(64) double box_lo_[Uniform ? 1 : D][W];  // the lane's wells' box (not Uniform)
+  alignas(64) double box_hi_[Uniform ? 1 : D][W];
 };
 
 }  // namespace cs

@@ -171,6 +171,12 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
                            std::nullopt});
   }
   const int phase_space = 2 * scene.dof;
+  // Whether the energy trap (energy_wells.hpp) served each lane, and if not why: the kernel
+  // alone can tell (it evaluates V), so each lane reports it (BasinSummary::energy_trap).
+  if (!trap && basin.exact_trap)
+    map.trap_verdict = add({"trap_verdict", ElementType::float64, false, "", "", {}, "",
+                            std::nullopt},
+                           1, true);
   // The trap's attractors are the wells' minima (±a, 0): known from a lane's label and a, so
   // the trap keeps no point per lane (6 MB less to journal on the 512² map).
   if (!trap)

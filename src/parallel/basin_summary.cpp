@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "parallel/comm.hpp"
+#include "physics/energy_wells.hpp"
 
 namespace cs {
 namespace {
@@ -53,6 +54,44 @@ std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
   return labels;
 }
 
+// Collective. Whether the energy trap served the lanes (energy_wells.hpp, TrapVerdict), from
+// each lane's verdict: "used", or "not used: why", or both with their counts.
+std::string energy_trap_verdict(const RunPlan& whole,
+                                const std::vector<std::unique_ptr<BlockResults>>& results,
+                                MPI_Comm comm) {
+  if (whole.basin_mode == BasinMode::trap)
+    return "used: the double well's exact trap, E < a^4/2 - 2 h^2 a^6";
+  if (whole.map.trap_verdict < 0) return "not used: measures.basin.exact_trap = false";
+  constexpr int kVerdicts = 6;
+  std::int64_t counts[kVerdicts] = {};
+  for (const auto& block : results)
+    for (double v : block->columns[static_cast<std::size_t>(whole.map.trap_verdict)])
+      if (v >= 0 && v < kVerdicts) ++counts[static_cast<int>(v)];
+  allreduce(comm, counts, kVerdicts, MPI_INT64_T, MPI_SUM);
+  static const char* const why[kVerdicts] = {
+      "K is not p^2/2 + V(q) + k*z without t, so no energy is known never to rise",
+      "",
+      "no dissipation: the coefficient k of z in K is not negative, so the energy may rise",
+      "no minimum of V was found in the box around the map's positions",
+      "V on the boundary of the box around the map's positions is nowhere above its lowest "
+      "minimum",
+      "no saddle of V lies above its lowest minimum by more than the integrator's energy margin "
+      "(a smaller h helps)"};
+  const std::int64_t used = counts[static_cast<int>(TrapVerdict::used)];
+  std::int64_t total = 0;
+  for (auto n : counts) total += n;
+  if (used == total) return "used";
+  std::vector<std::string> reasons;
+  for (int v = 0; v < kVerdicts; ++v)
+    if (v != static_cast<int>(TrapVerdict::used) && counts[v] > 0)
+      reasons.push_back(counts[v] == total - used && used == 0
+                            ? std::string(why[v])
+                            : fmt::format("{} ({} cells)", why[v], counts[v]));
+  if (used == 0) return "not used: " + fmt::format("{}", fmt::join(reasons, "; "));
+  return fmt::format("used for {} of {} cells; not for the others: {}", used, total,
+                     fmt::join(reasons, "; "));
+}
+
 }  // namespace
 
 BasinSummary summarise_basins(const RunPlan& whole,
@@ -73,6 +112,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
       break;
   }
   for (auto& block : results) label_block(whole, summary.table, *block);
+  summary.energy_trap = energy_trap_verdict(whole, results, comm);
   const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   if (rank_of(comm) != 0) return summary;
@@ -140,6 +180,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   number["uncertainty_exponent"] = s.uncertainty_exponent;
   number["boundary_dimension"] = s.boundary_dimension;
   number["basin_tolerance"] = plan.attractors.tolerance;
+  layout.text_attributes["energy_trap"] = basins.energy_trap;
   layout.text_attributes["basin_boundary"] =
       std::isnan(s.boundary_basin_entropy) ? "no boundary on the map"
       : s.boundary_basin_entropy > std::numbers::ln2
@@ -207,7 +248,7 @@ std::string describe(const BasinSummary& basins) {
   for (const Attractor& a : basins.table)
     text += fmt::format("; {} ({}period {}) {:.4f}", a.label,
                         fmt::format("{:.4g}, ", fmt::join(a.point, ", ")), a.period, fraction(a.label));
-  text += fmt::format("; undecided {:.4f}", fraction(0));
+  text += fmt::format("; undecided {:.4f}; energy trap: {}", fraction(0), basins.energy_trap);
   if (!std::isnan(s.basin_entropy))
     text += fmt::format("; S_b = {:.4f}, S_bb = {:.4f} ({} ln 2: {}), uncertainty exponent {:.3f} "
                         "(boundary dimension {:.3f})",

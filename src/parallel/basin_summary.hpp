@@ -21,6 +21,8 @@ struct BasinSummary {
   // The type of `basin` and `attractor_label`: int8 while the labels fit (the double well's
   // -1/+1 and every map of up to 127 attractors keep their files), int16, then int32, beyond.
   ElementType label_type = ElementType::int8;
+  // Whether the energy trap decided basins, and if not why (the root attribute `energy_trap`).
+  std::string energy_trap;
   BasinStatistics statistics;                    // rank 0
   int continuation_axis = -1;                    // a parameter axis of the grid, if any
   std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis
