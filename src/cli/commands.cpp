@@ -63,9 +63,10 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
                         static_cast<double>(s.lane_steps) / s.seconds)
           : "";
   log("contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s{}{}); "
-      "flagged: {} diverged, {} integrator breakdown",
+      "flagged: {} diverged, {} integrator breakdown, {} non-finite output, {} K undefined at "
+      "the initial state",
       options.output, s.points, spec.steps, s.seconds, rate, integrated, resumed,
-      s.flagged_diverged, s.flagged_breakdown);
+      s.flagged_diverged, s.flagged_breakdown, s.flagged_non_finite, s.flagged_undefined_at_start);
   return 0;
 }
 

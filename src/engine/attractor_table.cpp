@@ -122,12 +122,6 @@ std::vector<Attractor> merge_candidates(const RunPlan& plan, const std::vector<d
     return false;
   });
   if (plan.basin_mode != BasinMode::trap) {
-    if (static_cast<int>(table.size()) > kMaxAttractors)
-      throw InputError(fmt::format(
-          "measures.basin: {} distinct attractors were found, more than the {} labels basin "
-          "holds; a tolerance ({}) too small for the integrator's accuracy, or a dwell too short "
-          "for the lanes to settle, splits one attractor into many",
-          table.size(), kMaxAttractors, plan.attractors.tolerance));
     for (std::size_t k = 0; k < table.size(); ++k) table[k].label = static_cast<int>(k) + 1;
   }
   return table;

@@ -7,6 +7,7 @@
 // label are the same bits for any number of ranks and threads; no rank's timing enters.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "engine/results.hpp"
@@ -23,16 +24,17 @@ struct Attractor {
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
 // than this many tolerances to be told apart.
 inline constexpr double kLinkTolerances = 4.0;
-// Labels are int8 (the double well's −1/+1 are kept), so a table holds at most this many.
-inline constexpr int kMaxAttractors = 127;
+// Labels are int32 here (int8, int16 or int32 in the file: BasinSummary::label_type), and a
+// table holds at most one attractor per grid point: RunPlan refuses, before any work, a basin
+// map of more points than labels.
+inline constexpr std::int64_t kMaxAttractors = 2147483647;
 
 // The block's candidate attractors, flat: per candidate {block begin, period, label, point..}
 // (label: the exact trap's ±1, else 0).
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
 
 // The table from every block's candidates (any order of blocks: they are sorted first).
-// Labels: the trap's, else 1, 2, ... in the order of (period, point). Throws InputError past
-// kMaxAttractors.
+// Labels: the trap's, else 1, 2, ... in the order of (period, point).
 std::vector<Attractor> merge_candidates(const RunPlan& plan, const std::vector<double>& records);
 
 // Replaces the provisional labels of a block (1: settled) by the table's.

@@ -1,5 +1,6 @@
 #include "engine/basin_statistics.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <utility>
@@ -49,7 +50,7 @@ struct BoxCounts {
   }
 };
 
-void box_entropies(const std::vector<std::int8_t>& labels, const Planes& g, int plane_axes,
+void box_entropies(const std::vector<BasinLabel>& labels, const Planes& g, int plane_axes,
                    BasinStatistics& out) {
   const int e = out.box_cells;
   const std::int64_t box_rows = plane_axes == 2 ? e : 1;
@@ -72,7 +73,7 @@ void box_entropies(const std::vector<std::int8_t>& labels, const Planes& g, int 
 
 // Cells with all four (two, in 1-D) neighbours ε away inside the grid; uncertain if one of them
 // differs.
-double uncertain_fraction(const std::vector<std::int8_t>& labels, const Planes& g, int plane_axes,
+double uncertain_fraction(const std::vector<BasinLabel>& labels, const Planes& g, int plane_axes,
                           std::int64_t eps) {
   std::int64_t cells = 0, uncertain = 0;
   const std::int64_t row_eps = plane_axes == 2 ? eps : 0;
@@ -108,15 +109,17 @@ double log_log_slope(const std::vector<int>& eps, const std::vector<double>& f) 
 
 }  // namespace
 
-BasinStatistics basin_statistics(const std::vector<std::int8_t>& labels,
+BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels,
                                  const BasinMapShape& shape) {
   BasinStatistics out;
   out.points = static_cast<std::int64_t>(labels.size());
-  std::array<std::int64_t, 256> per_label{};  // labels are int8
-  for (auto l : labels) ++per_label[static_cast<std::size_t>(l + 128)];
-  for (int l = -128; l < 128; ++l)
-    if (per_label[static_cast<std::size_t>(l + 128)] > 0)
-      out.cells[l] = per_label[static_cast<std::size_t>(l + 128)];
+  // Labels run from -1 (the double well's left well) to the number of attractors.
+  BasinLabel lowest = 0, highest = 0;
+  for (auto l : labels) lowest = std::min(lowest, l), highest = std::max(highest, l);
+  std::vector<std::int64_t> per_label(static_cast<std::size_t>(std::int64_t{highest} - lowest + 1));
+  for (auto l : labels) ++per_label[static_cast<std::size_t>(l - lowest)];
+  for (std::size_t k = 0; k < per_label.size(); ++k)
+    if (per_label[k] > 0) out.cells[static_cast<int>(lowest + static_cast<BasinLabel>(k))] = per_label[k];
   if (shape.plane_axes == 0) {
     out.basin_entropy = out.boundary_basin_entropy = kNaN;
     out.uncertainty_exponent = out.boundary_dimension = kNaN;
@@ -134,7 +137,7 @@ BasinStatistics basin_statistics(const std::vector<std::int8_t>& labels,
   return out;
 }
 
-std::vector<std::map<int, double>> fractions_along(const std::vector<std::int8_t>& labels,
+std::vector<std::map<int, double>> fractions_along(const std::vector<BasinLabel>& labels,
                                                    const BasinMapShape& shape, int axis) {
   std::int64_t stride = 1;
   for (std::size_t a = static_cast<std::size_t>(axis) + 1; a < shape.dims.size(); ++a)

@@ -10,6 +10,9 @@
 
 namespace cs {
 
+// A cell's basin label as the statistics see it: int32, whatever type the file stores it as.
+using BasinLabel = std::int32_t;
+
 struct BasinMapShape {
   std::vector<std::int64_t> dims;  // every grid axis, first slowest (row-major labels)
   int plane_axes = 0;              // the last 1 or 2 axes: initial conditions (0: none)
@@ -32,10 +35,10 @@ struct BasinStatistics {
   double boundary_dimension = 0.0;
 };
 
-BasinStatistics basin_statistics(const std::vector<std::int8_t>& labels, const BasinMapShape& shape);
+BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels, const BasinMapShape& shape);
 
 // Fractions of each label per value of one axis (a continuation): fractions[value][label].
-std::vector<std::map<int, double>> fractions_along(const std::vector<std::int8_t>& labels,
+std::vector<std::map<int, double>> fractions_along(const std::vector<BasinLabel>& labels,
                                                    const BasinMapShape& shape, int axis);
 
 }  // namespace cs

@@ -58,6 +58,7 @@ class BlockRunner {
     std::int64_t n = 0;       // steps done
     bool trapped = false;     // basin decided by the energy trap
     bool settled = false;     // attractor found (BasinMode::found)
+    bool non_finite = false;  // a trajectory sample written was not finite
     int period = 0;           // of the cycle it settled on
     std::array<double, N> attractor{};
     // Its stroboscopic samples (a forced scene's period), kept beside the books: a tracker is
@@ -91,7 +92,10 @@ class BlockRunner {
       fin_cycles_ = std::make_unique<CycleTracker<N>[]>(W);
     }
     energy_search_ = found && has_energy_trap<S>() && m.basin->exact_trap;
-    if (energy_search_) box_ = basin_box();
+    if (energy_search_) {
+      grid_box_ = basin_box();
+      if constexpr (Uniform) box_ = wells_for(uniform_params_).box;
+    }
     for (int k = 0; k < N && found; ++k) {
       angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
       angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
@@ -162,6 +166,8 @@ class BlockRunner {
       well_energy_[i] = -std::numeric_limits<double>::infinity();
       dwell_needed_[i] = std::numeric_limits<double>::infinity();
       for (int k = 0; k < N; ++k) anchor_[k][i] = 0.0;
+      if constexpr (!Uniform)
+        for (int d = 0; d < D; ++d) box_lo_[d][i] = box_hi_[d][i] = 0.0;
     }
   }
 
@@ -211,6 +217,10 @@ class BlockRunner {
       main_cycles_[i] = CycleTracker<N>{};
       b.cycle = &main_cycles_[i];
     }
+    if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
+      finish(b, x, c, LaneStatus::undefined_at_start);
+      return false;
+    }
     if (Method::template breaks_down<S>(coef)) {
       observe(b, x, c);  // the initial state is sound; its first step is what breaks down
       finish(b, x, c, LaneStatus::breakdown);
@@ -231,7 +241,12 @@ class BlockRunner {
       for (int d = 0; d < D; ++d) anchor_[d][i] = x.q[d], anchor_[D + d][i] = x.p[d];
       dwell_needed_[i] = plan_.attractors.dwell_samples;
     }
-    if (energy_search_ && !b.settled) well_energy_[i] = wells_for(c).trap_energy;
+    if (energy_search_ && !b.settled) {
+      const Wells<D>& wells = wells_for(c);
+      well_energy_[i] = wells.trap_energy;
+      if constexpr (!Uniform)
+        for (int d = 0; d < D; ++d) box_lo_[d][i] = wells.box.lo[d], box_hi_[d][i] = wells.box.hi[d];
+    }
     ++active_;
     if (steps_ < plan_.chunk) move_to_finisher(i);  // a run shorter than one chunk
     return true;
@@ -278,7 +293,8 @@ class BlockRunner {
         LookInt inside = 1;
         for (int d = 0; d < D; ++d) {
           q[d] = t.q[d][i], p[d] = t.p[d][i];
-          inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
+          if constexpr (Uniform) inside &= (q[d] >= box_.lo[d]) & (q[d] <= box_.hi[d]);
+          else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
         }
         double energy;
         if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
@@ -303,9 +319,10 @@ class BlockRunner {
     return box;
   }
 
-  // The wells of one parameter set, found once per process and kept (~0.1 s for the magnetic
-  // pendulum; the same bits whichever thread finds them). Entries are never removed, so the
-  // references handed out stay valid; a grid has few distinct parameter sets.
+  // The wells of one parameter set, in the box find_wells() chose for it, found once per process
+  // and kept (~0.1 s for the magnetic pendulum; the same bits whichever thread finds them).
+  // Entries are never removed, so the references handed out stay valid; a grid has few
+  // distinct parameter sets.
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
@@ -317,21 +334,21 @@ class BlockRunner {
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
     for (const Known& k : known)
-      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == box_.lo && k.box.hi == box_.hi &&
-          k.h == h_)
+      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == grid_box_.lo &&
+          k.box.hi == grid_box_.hi && k.h == h_)
         return k.wells;
-    known.push_back({c, box_, h_, WellFinder<S>(c, box_, h_).find()});
+    known.push_back({c, grid_box_, h_, find_wells<S>(c, grid_box_, h_)});
     return known.back().wells;
   }
 
   // Settles a lane whose energy has fallen below its trap level, at its well's minimum.
   void check_energy_trap(Book& b, const LaneState<D>& x, const Params& c) {
     if constexpr (has_energy_trap<S>()) {
-      for (int d = 0; d < D; ++d)
-        if (!(x.q[d] >= box_.lo[d] && x.q[d] <= box_.hi[d])) return;
       const Wells<D>& wells = wells_for(c);
+      for (int d = 0; d < D; ++d)
+        if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
-      const auto bottom = WellFinder<S>(c, box_, h_).bottom(x.q, wells);
+      const auto bottom = WellFinder<S>(c, wells.box, h_).bottom(x.q, wells);
       if (!bottom) return;
       b.settled = true;
       b.period = 1;
@@ -455,6 +472,20 @@ class BlockRunner {
     fin_count_ = 0;
   }
 
+  // The initial state and K, K_q, K_p, K_z there are finite (Lane–Emden's (2/t)·z at t = 0,
+  // log(q) at q < 0 are not).
+  static bool defined_at(const LaneState<D>& x, const Params& c) {
+    bool finite = std::isfinite(x.z) && std::isfinite(x.mu) &&
+                  std::isfinite(K<S>(x.q, x.p, x.z, c, x.t)) &&
+                  std::isfinite(K_z<S>(x.q, x.p, x.z, c, x.t));
+    for_each_dof<D>([&](auto i) {
+      finite = finite && std::isfinite(x.q[i]) && std::isfinite(x.p[i]) &&
+               std::isfinite(K_q<S, i>(x.q, x.p, x.z, c, x.t)) &&
+               std::isfinite(K_p<S, i>(x.q, x.p, x.z, c, x.t));
+    });
+    return finite;
+  }
+
   static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
     if (x.broken > 0.0) status = LaneStatus::breakdown;
     else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
@@ -481,7 +512,7 @@ class BlockRunner {
     if (plan_.samples > 0) {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
-        record_sample(b.point, b.n / every, x, c);
+        record_sample(b, b.n / every, x, c);
         b.samples_recorded = b.n / every + 1;
       }
     }
@@ -543,31 +574,58 @@ class BlockRunner {
     H = k == 0.0 ? 0.0 : std::copysign(std::exp(log_lambda_now + std::log(std::fabs(k))), k);
   }
 
-  void record_sample(std::int64_t point, std::int64_t sample, const LaneState<D>& x,
-                     const Params& c) {
+  void record_sample(Book& b, std::int64_t sample, const LaneState<D>& x, const Params& c) {
     double v[kMaxVars], H;
     state_values(x, c, v, H);
     const auto& map = plan_.map;
+    bool finite = true;
     for (int k = 0; k < kMaxVars; ++k)
-      if (map.traj_vars[k] >= 0) column(map.traj_vars[k], point)[sample] = v[k];
-    if (map.traj_H >= 0) column(map.traj_H, point)[sample] = H;
+      if (map.traj_vars[k] >= 0) {
+        column(map.traj_vars[k], b.point)[sample] = v[k];
+        finite = finite && std::isfinite(v[k]);
+      }
+    if (map.traj_H >= 0) {
+      column(map.traj_H, b.point)[sample] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (!finite) b.non_finite = true;
   }
 
+  // Writes a lane's results. A lane that ran (status ok) but wrote a value that is not finite
+  // where the dataset promises one (ln λ or H overflowing, z where K is undefined along the
+  // path) is flagged non_finite: its values are written as computed, its basin kept (decided on
+  // q and p, which are finite), and no cell with a non-finite value reads ok.
   void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     auto k = b.point;
     out_.lane_steps += b.n;
-    column(map.status, k)[0] = static_cast<double>(status);
     double v[kMaxVars], H;
     state_values(x, c, v, H);
-    if (status == LaneStatus::breakdown) {
+    if (status == LaneStatus::breakdown || status == LaneStatus::undefined_at_start) {
       for (auto& value : v) value = nan;
       H = nan;
     }
+    bool finite = !b.non_finite;
     for (int i = 0; i < kMaxVars; ++i)
-      if (map.final_vars[i] >= 0) column(map.final_vars[i], k)[0] = v[i];
-    if (map.final_H >= 0) column(map.final_H, k)[0] = H;
+      if (map.final_vars[i] >= 0) {
+        column(map.final_vars[i], k)[0] = v[i];
+        finite = finite && std::isfinite(v[i]);
+      }
+    if (map.final_H >= 0) {
+      column(map.final_H, k)[0] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (map.sync_r >= 0) finite = finish_sync(b, status) && finite;
+    if (map.basin >= 0) finish_basin(b, x, status);
+    if (map.trap_verdict >= 0) {
+      TrapVerdict verdict = TrapVerdict::not_applicable;
+      if constexpr (has_energy_trap<S>())
+        if (energy_search_) verdict = wells_for(c).verdict;
+      column(map.trap_verdict, k)[0] = static_cast<double>(verdict);
+    }
+    if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
+    column(map.status, k)[0] = static_cast<double>(status);
     if (plan_.samples > 0 && status != LaneStatus::ok) {
       // A failed lane's trajectory ends where it failed: every sample not recorded while it was
       // healthy is NaN, including one due at the look that found it failed (b.n).
@@ -577,8 +635,6 @@ class BlockRunner {
         if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
       }
     }
-    if (map.basin >= 0) finish_basin(b, x, status);
-    if (map.sync_r >= 0) finish_sync(b, status);
   }
 
   // The label is provisional here (1: settled) except for the trap's ±1: the attractor table,
@@ -605,7 +661,9 @@ class BlockRunner {
     column(map.settle_time, b.point)[0] = ok ? b.settle_time : nan;
   }
 
-  void finish_sync(const Book& b, LaneStatus status) {
+  // False if a value it wrote is not finite where one exists (the frequency ratio of an
+  // oscillator at rest, sync_amplitude = 0, does not).
+  bool finish_sync(const Book& b, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     SyncResult r{nan, nan, nan, nan};
@@ -615,6 +673,9 @@ class BlockRunner {
     column(map.sync_phase_drift, b.point)[0] = r.phase_drift;
     column(map.sync_freq_ratio, b.point)[0] = r.freq_ratio;
     column(map.sync_amplitude, b.point)[0] = r.amplitude;
+    if (!(status == LaneStatus::ok && b.n >= sync_n1_)) return true;  // nothing measured
+    return std::isfinite(r.r) && std::isfinite(r.phase_drift) && std::isfinite(r.amplitude) &&
+           (std::isfinite(r.freq_ratio) || r.amplitude == 0.0);
   }
 
   const RunPlan& plan_;
@@ -630,7 +691,8 @@ class BlockRunner {
   std::unique_ptr<CycleTracker<N>[]> main_cycles_, fin_cycles_;  // per slot, when strobe_
   bool look_search_ = false;  // attractors looked for at every look (anchor_, near_)
   bool energy_search_ = false;  // the energy trap of K = T + V + k·z (energy_wells.hpp)
-  BasinBox<D> box_{};
+  BasinBox<D> grid_box_{};  // the map's positions, widened (basin_box)
+  BasinBox<D> box_{};       // the wells' box when Uniform (else per lane: box_lo_, box_hi_)
   double angle_period_[N] = {}, angle_frequency_[N] = {};
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
@@ -645,6 +707,8 @@ class BlockRunner {
   alignas(64) double near_[W];           // looks since then, all within the tolerance
   alignas(64) double dwell_needed_[W];   // looks that settle a lane (∞: not searching)
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
+  alignas(64) double box_lo_[Uniform ? 1 : D][W];  // the lane's wells' box (not Uniform)
+  alignas(64) double box_hi_[Uniform ? 1 : D][W];
 };
 
 }  // namespace cs

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/attractor_table.hpp"
 #include "engine/block_runner.hpp"
 #include "numerics/contact_splitting.hpp"
 #include "numerics/hybrid_leapfrog.hpp"
@@ -66,8 +67,10 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   // A cell no rank wrote must never read as "ok": sweep.cpp checks that every point was
   // computed before it writes, and the file's fill value says not_computed besides.
   map.status = add({"status", ElementType::uint8, false, "integration status", "",
-                    {0, 1, 2, kStatusNotComputed},
-                    "ok diverged integrator_breakdown not_computed", std::nullopt,
+                    {0, 1, 2, 3, 4, kStatusNotComputed},
+                    "ok diverged integrator_breakdown non_finite_output k_undefined_at_start "
+                    "not_computed",
+                    std::nullopt,
                     kStatusNotComputed});
 
   if (measures.final_state) {
@@ -146,6 +149,11 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   auto add = [&](DatasetSpec d, std::int64_t width = 1, bool internal = false) {
     return add_column(std::move(d), width, internal);
   };
+  // Up to one attractor per point, each with its own label: checked here, before any work.
+  if (grid.size() > kMaxAttractors)
+    throw InputError(fmt::format("measures.basin: a basin map of {} points has more cells than "
+                                 "the {} labels an int32 holds; use a coarser grid",
+                                 grid.size(), kMaxAttractors));
   const bool trap = basin.exact_trap && scene.name == "double_well" && !spec.custom;
   basin_mode = trap ? BasinMode::trap : BasinMode::found;
   if (trap) {
@@ -163,6 +171,12 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
                            std::nullopt});
   }
   const int phase_space = 2 * scene.dof;
+  // Whether the energy trap (energy_wells.hpp) served each lane, and if not why: the kernel
+  // alone can tell (it evaluates V), so each lane reports it (BasinSummary::energy_trap).
+  if (!trap && basin.exact_trap)
+    map.trap_verdict = add({"trap_verdict", ElementType::float64, false, "", "", {}, "",
+                            std::nullopt},
+                           1, true);
   // The trap's attractors are the wells' minima (±a, 0): known from a lane's label and a, so
   // the trap keeps no point per lane (6 MB less to journal on the 512² map).
   if (!trap)

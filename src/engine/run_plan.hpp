@@ -18,7 +18,20 @@
 
 namespace cs {
 
-enum class LaneStatus : std::uint8_t { ok = 0, diverged = 1, breakdown = 2 };
+// A cell's `status`. The values only grow: 0–2 keep their meaning in every file.
+//   diverged: q or p not finite, or beyond the scene's bound;
+//   breakdown: a λ factor 1 ± (h/2)K_z reached ≤ 0;
+//   non_finite: integrated to its end (or early stop), but a value written for it is not finite
+//     where its dataset promises one (z, ln λ, H, trajectory or sync values);
+//   undefined_at_start: K or one of its partials is not finite at the initial state: nothing
+//     is integrated and every value is NaN.
+enum class LaneStatus : std::uint8_t {
+  ok = 0,
+  diverged = 1,
+  breakdown = 2,
+  non_finite = 3,
+  undefined_at_start = 4
+};
 // The `status` of a cell no rank wrote: the file's fill value, never produced by a lane.
 inline constexpr int kStatusNotComputed = 255;
 
@@ -31,6 +44,7 @@ struct ColumnMap {
   int traj_H = -1;
   int basin = -1, settle_time = -1;
   int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
+  int trap_verdict = -1;  // internal: whether the energy trap served the lane (TrapVerdict)
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
 };
 

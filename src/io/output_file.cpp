@@ -234,6 +234,8 @@ hid_t memory_type(ElementType type) {
   switch (type) {
     case ElementType::int8: return H5T_NATIVE_INT8;
     case ElementType::uint8: return H5T_NATIVE_UINT8;
+    case ElementType::int16: return H5T_NATIVE_INT16;
+    case ElementType::int32: return H5T_NATIVE_INT32;
     case ElementType::float64: break;
   }
   return H5T_NATIVE_DOUBLE;
@@ -244,6 +246,8 @@ hid_t file_type(ElementType type) {
   switch (type) {
     case ElementType::int8: return H5T_STD_I8LE;
     case ElementType::uint8: return H5T_STD_U8LE;
+    case ElementType::int16: return H5T_STD_I16LE;
+    case ElementType::int32: return H5T_STD_I32LE;
     case ElementType::float64: break;
   }
   return H5T_IEEE_F64LE;
@@ -254,10 +258,14 @@ struct TypedValue {
   double d = 0;
   std::int8_t i8 = 0;
   std::uint8_t u8 = 0;
+  std::int16_t i16 = 0;
+  std::int32_t i32 = 0;
   const void* pointer(ElementType type) const {
     switch (type) {
       case ElementType::int8: return &i8;
       case ElementType::uint8: return &u8;
+      case ElementType::int16: return &i16;
+      case ElementType::int32: return &i32;
       case ElementType::float64: break;
     }
     return &d;
@@ -269,6 +277,10 @@ bool representable(double value, ElementType type) {
   switch (type) {
     case ElementType::int8: return value == std::trunc(value) && value >= -128 && value <= 127;
     case ElementType::uint8: return value == std::trunc(value) && value >= 0 && value <= 255;
+    case ElementType::int16:
+      return value == std::trunc(value) && value >= -32768 && value <= 32767;
+    case ElementType::int32:
+      return value == std::trunc(value) && value >= -2147483648.0 && value <= 2147483647.0;
     case ElementType::float64: break;
   }
   return true;
@@ -278,8 +290,10 @@ TypedValue typed(double value, ElementType type) {
   TypedValue v;
   v.d = value;
   if (type != ElementType::float64 && !std::isnan(value)) {
-    v.i8 = static_cast<std::int8_t>(value);
-    v.u8 = static_cast<std::uint8_t>(value);
+    if (representable(value, ElementType::int8)) v.i8 = static_cast<std::int8_t>(value);
+    if (representable(value, ElementType::uint8)) v.u8 = static_cast<std::uint8_t>(value);
+    if (representable(value, ElementType::int16)) v.i16 = static_cast<std::int16_t>(value);
+    if (representable(value, ElementType::int32)) v.i32 = static_cast<std::int32_t>(value);
   }
   return v;
 }
@@ -340,6 +354,8 @@ void write_flag_values(hid_t object, const std::vector<int>& values, ElementType
   switch (type) {
     case ElementType::int8: return write_flag_values_as<std::int8_t>(object, values, type, check);
     case ElementType::uint8: return write_flag_values_as<std::uint8_t>(object, values, type, check);
+    case ElementType::int16: return write_flag_values_as<std::int16_t>(object, values, type, check);
+    case ElementType::int32: return write_flag_values_as<std::int32_t>(object, values, type, check);
     case ElementType::float64: break;
   }
   write_flag_values_as<double>(object, values, type, check);
@@ -374,7 +390,16 @@ std::vector<hsize_t> chunk_shape(const std::vector<hsize_t>& shape, std::size_t 
   return chunk;
 }
 
-std::size_t element_size(ElementType type) { return type == ElementType::float64 ? 8 : 1; }
+std::size_t element_size(ElementType type) {
+  switch (type) {
+    case ElementType::int8:
+    case ElementType::uint8: return 1;
+    case ElementType::int16: return 2;
+    case ElementType::int32: return 4;
+    case ElementType::float64: break;
+  }
+  return 8;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Selections: a flat, row-major run of grid points [begin, end) as a few rectangular hyperslabs.
@@ -544,6 +569,20 @@ struct OutputFile::Impl {
   void abandon() noexcept;
   ~Impl();
 };
+
+std::string repeated_name(const FileLayout& layout) {
+  std::set<std::string> names;
+  std::string repeated;
+  const auto add = [&](const std::string& name) {
+    if (!names.insert(name).second && repeated.empty()) repeated = name;
+  };
+  for (const CoordinateSpec& axis : layout.axes) add(axis.name);
+  if (layout.time) add(layout.time->name);
+  for (const CoordinateSpec& extra : layout.extra_dimensions) add(extra.name);
+  for (const TableSpec& table : layout.tables) add(table.dataset.name);
+  for (const DatasetSpec& spec : layout.datasets) add(spec.name);
+  return repeated;
+}
 
 void OutputFile::Impl::validate(const FileLayout& layout) const {
   std::set<std::string> names;
@@ -822,11 +861,22 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
   PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, spec.fill_value);
   DatasetHandle dataset(checker(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
                                            space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
-  std::vector<std::int8_t> i8(table.values.begin(), table.values.end());
-  std::vector<std::uint8_t> u8(table.values.begin(), table.values.end());
-  const void* data = spec.type == ElementType::int8    ? static_cast<const void*>(i8.data())
-                     : spec.type == ElementType::uint8 ? static_cast<const void*>(u8.data())
-                                                       : static_cast<const void*>(table.values.data());
+  const auto as = [&]<class T>(std::vector<T>& out) {
+    out.assign(table.values.begin(), table.values.end());
+    return static_cast<const void*>(out.data());
+  };
+  std::vector<std::int8_t> i8;
+  std::vector<std::uint8_t> u8;
+  std::vector<std::int16_t> i16;
+  std::vector<std::int32_t> i32;
+  const void* data = static_cast<const void*>(table.values.data());
+  switch (spec.type) {
+    case ElementType::int8: data = as(i8); break;
+    case ElementType::uint8: data = as(u8); break;
+    case ElementType::int16: data = as(i16); break;
+    case ElementType::int32: data = as(i32); break;
+    case ElementType::float64: break;
+  }
   write_whole(dataset.get(), elements, memory_type(spec.type), data, spec.name, what);
   for (std::size_t d = 0; d < scales.size(); ++d)
     checker(H5DSattach_scale(dataset.get(), scales[d], static_cast<unsigned>(d)),

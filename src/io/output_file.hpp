@@ -21,7 +21,8 @@
 
 namespace cs {
 
-enum class ElementType { float64, int8, uint8 };
+// int16 and int32 hold attractor labels past int8's 127 (basin_summary.cpp).
+enum class ElementType { float64, int8, uint8, int16, int32 };
 
 struct DatasetSpec {
   std::string name;            // "final_q", "basin", "traj_q", ...
@@ -62,6 +63,11 @@ struct FileLayout {
   std::map<std::string, std::string> text_attributes;     // root attributes
   std::map<std::string, double> number_attributes;        // root attributes
 };
+
+// The first name a layout gives to two of its axes, datasets and tables ("" if none): checked
+// before a run's work (output_assembly.hpp), so that a K parameter named like a dataset is bad
+// input, not a failure after the work.
+std::string repeated_name(const FileLayout& layout);
 
 // A contiguous run [begin, end) of flattened grid points (row-major over the axes).
 struct PointRange {

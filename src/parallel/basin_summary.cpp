@@ -1,11 +1,13 @@
 #include "parallel/basin_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include <fmt/format.h>
 
 #include "parallel/comm.hpp"
+#include "physics/energy_wells.hpp"
 
 namespace cs {
 namespace {
@@ -31,7 +33,7 @@ int first_parameter_axis(const RunSpec& spec) {
 }
 
 // Rank 0: every point's label, in grid order.
-std::vector<std::int8_t> labels_on_rank0(const RunPlan& whole,
+std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
                                          const std::vector<std::unique_ptr<BlockResults>>& results,
                                          MPI_Comm comm) {
   std::vector<double> mine;
@@ -42,14 +44,52 @@ std::vector<std::int8_t> labels_on_rank0(const RunPlan& whole,
     mine.insert(mine.end(), labels.begin(), labels.end());
   }
   const std::vector<double> all = gather(comm, mine, false);
-  std::vector<std::int8_t> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
+  std::vector<BasinLabel> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
   for (std::size_t k = 0; k < all.size();) {
     const auto begin = static_cast<std::int64_t>(all[k]), end = static_cast<std::int64_t>(all[k + 1]);
     for (std::int64_t i = begin; i < end; ++i)
-      labels[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
+      labels[static_cast<std::size_t>(i)] = static_cast<BasinLabel>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
     k += 2 + static_cast<std::size_t>(end - begin);
   }
   return labels;
+}
+
+// Collective. Whether the energy trap served the lanes (energy_wells.hpp, TrapVerdict), from
+// each lane's verdict: "used", or "not used: why", or both with their counts.
+std::string energy_trap_verdict(const RunPlan& whole,
+                                const std::vector<std::unique_ptr<BlockResults>>& results,
+                                MPI_Comm comm) {
+  if (whole.basin_mode == BasinMode::trap)
+    return "used: the double well's exact trap, E < a^4/2 - 2 h^2 a^6";
+  if (whole.map.trap_verdict < 0) return "not used: measures.basin.exact_trap = false";
+  constexpr int kVerdicts = 6;
+  std::int64_t counts[kVerdicts] = {};
+  for (const auto& block : results)
+    for (double v : block->columns[static_cast<std::size_t>(whole.map.trap_verdict)])
+      if (v >= 0 && v < kVerdicts) ++counts[static_cast<int>(v)];
+  allreduce(comm, counts, kVerdicts, MPI_INT64_T, MPI_SUM);
+  static const char* const why[kVerdicts] = {
+      "K is not p^2/2 + V(q) + k*z without t, so no energy is known never to rise",
+      "",
+      "no dissipation: the coefficient k of z in K is not negative, so the energy may rise",
+      "no minimum of V was found in the box around the map's positions",
+      "V on the boundary of the box around the map's positions is nowhere above its lowest "
+      "minimum",
+      "no saddle of V lies above its lowest minimum by more than the integrator's energy margin "
+      "(a smaller h helps)"};
+  const std::int64_t used = counts[static_cast<int>(TrapVerdict::used)];
+  std::int64_t total = 0;
+  for (auto n : counts) total += n;
+  if (used == total) return "used";
+  std::vector<std::string> reasons;
+  for (int v = 0; v < kVerdicts; ++v)
+    if (v != static_cast<int>(TrapVerdict::used) && counts[v] > 0)
+      reasons.push_back(counts[v] == total - used && used == 0
+                            ? std::string(why[v])
+                            : fmt::format("{} ({} cells)", why[v], counts[v]));
+  if (used == 0) return "not used: " + fmt::format("{}", fmt::join(reasons, "; "));
+  return fmt::format("used for {} of {} cells; not for the others: {}", used, total,
+                     fmt::join(reasons, "; "));
 }
 
 }  // namespace
@@ -63,8 +103,17 @@ BasinSummary summarise_basins(const RunPlan& whole,
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
   summary.table = merge_candidates(whole, gather(comm, candidates, true));
+  for (const ElementType type : {ElementType::int8, ElementType::int16, ElementType::int32}) {
+    summary.label_type = type;
+    const double limit = type == ElementType::int8 ? 127.0 : type == ElementType::int16 ? 32767.0
+                                                                                           : 2147483647.0;
+    if (std::all_of(summary.table.begin(), summary.table.end(),
+                    [&](const Attractor& a) { return a.label <= limit; }))
+      break;
+  }
   for (auto& block : results) label_block(whole, summary.table, *block);
-  const std::vector<std::int8_t> labels = labels_on_rank0(whole, results, comm);
+  summary.energy_trap = energy_trap_verdict(whole, results, comm);
+  const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   if (rank_of(comm) != 0) return summary;
   const BasinMapShape shape = map_shape(whole.spec);
@@ -79,7 +128,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
     const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
     for (std::int64_t v = 0; v < shape.dims[0]; ++v)
       summary.continuation_statistics.push_back(basin_statistics(
-          std::vector<std::int8_t>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
+          std::vector<BasinLabel>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
           slice));
   }
   return summary;
@@ -106,7 +155,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
                              {"attractor"},
                              std::move(values)});
   };
-  column("attractor_label", ElementType::int8, "label of the attractor in basin", labels);
+  column("attractor_label", basins.label_type, "label of the attractor in basin", labels);
   for (int k = 0; k < 2 * plan.scene.dof; ++k) {
     const VariableInfo& v = plan.scene.variables[static_cast<std::size_t>(k)];
     std::vector<double> values;
@@ -131,6 +180,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   number["uncertainty_exponent"] = s.uncertainty_exponent;
   number["boundary_dimension"] = s.boundary_dimension;
   number["basin_tolerance"] = plan.attractors.tolerance;
+  layout.text_attributes["energy_trap"] = basins.energy_trap;
   layout.text_attributes["basin_boundary"] =
       std::isnan(s.boundary_basin_entropy) ? "no boundary on the map"
       : s.boundary_basin_entropy > std::numbers::ln2
@@ -177,6 +227,17 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   }
 }
 
+void add_names_to_layout(const RunPlan& plan, FileLayout& layout) {
+  BasinSummary names;
+  names.continuation_axis = first_parameter_axis(plan.spec);
+  const BasinMapShape shape = map_shape(plan.spec);
+  if (names.continuation_axis >= 0) names.continuation.resize(1);
+  if (names.continuation_axis == 0 && shape.plane_axes > 0 &&
+      shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1)
+    names.continuation_statistics.resize(1);
+  add_to_layout(names, plan, layout);
+}
+
 std::string describe(const BasinSummary& basins) {
   const BasinStatistics& s = basins.statistics;
   const auto fraction = [&](int label) {
@@ -187,7 +248,7 @@ std::string describe(const BasinSummary& basins) {
   for (const Attractor& a : basins.table)
     text += fmt::format("; {} ({}period {}) {:.4f}", a.label,
                         fmt::format("{:.4g}, ", fmt::join(a.point, ", ")), a.period, fraction(a.label));
-  text += fmt::format("; undecided {:.4f}", fraction(0));
+  text += fmt::format("; undecided {:.4f}; energy trap: {}", fraction(0), basins.energy_trap);
   if (!std::isnan(s.basin_entropy))
     text += fmt::format("; S_b = {:.4f}, S_bb = {:.4f} ({} ln 2: {}), uncertainty exponent {:.3f} "
                         "(boundary dimension {:.3f})",

@@ -18,6 +18,11 @@ namespace cs {
 
 struct BasinSummary {
   std::vector<Attractor> table;
+  // The type of `basin` and `attractor_label`: int8 while the labels fit (the double well's
+  // -1/+1 and every map of up to 127 attractors keep their files), int16, then int32, beyond.
+  ElementType label_type = ElementType::int8;
+  // Whether the energy trap decided basins, and if not why (the root attribute `energy_trap`).
+  std::string energy_trap;
   BasinStatistics statistics;                    // rank 0
   int continuation_axis = -1;                    // a parameter axis of the grid, if any
   std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis
@@ -31,6 +36,10 @@ BasinSummary summarise_basins(const RunPlan& whole,
 // The attractor table along a dimension `attractor`, the fractions along the continuation axis
 // and the statistics as root attributes (INTERFACE.md).
 void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout);
+
+// The names add_to_layout will give the file's basin datasets, before any work is done (the
+// same conditions as summarise_basins; values left empty).
+void add_names_to_layout(const RunPlan& plan, FileLayout& layout);
 
 // One line for the log: attractors, fractions, S_b, S_bb and the uncertainty exponent.
 std::string describe(const BasinSummary& basins);

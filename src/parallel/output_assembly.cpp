@@ -18,6 +18,14 @@
 namespace cs {
 namespace {
 
+// Column k's dataset as written: `basin` takes the type its labels need (BasinSummary).
+DatasetSpec written_dataset(const RunPlan& plan, const OutputOptions& options, std::size_t k) {
+  DatasetSpec dataset = plan.columns[k].dataset;
+  if (options.basins && static_cast<int>(k) == plan.map.basin)
+    dataset.type = options.basins->label_type;
+  return dataset;
+}
+
 FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ranks,
                        int threads) {
   FileLayout layout;
@@ -34,8 +42,8 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
     layout.axes.push_back({axis.name, axis.values, long_name, ""});
   }
   if (plan.samples > 0) layout.time = CoordinateSpec{"t", plan.sample_times, "time", "time"};
-  for (const auto& column : plan.columns)
-    if (!column.internal) layout.datasets.push_back(column.dataset);
+  for (std::size_t k = 0; k < plan.columns.size(); ++k)
+    if (!plan.columns[k].internal) layout.datasets.push_back(written_dataset(plan, options, k));
   if (options.basins) add_to_layout(*options.basins, plan, layout);
   auto& text = layout.text_attributes;
   text["title"] = plan.spec.title;
@@ -133,6 +141,12 @@ class ColumnBatch {
       case ElementType::uint8:
         file_.write(dataset_.name, ranges_, converted<std::uint8_t>(values_).data());
         break;
+      case ElementType::int16:
+        file_.write(dataset_.name, ranges_, converted<std::int16_t>(values_).data());
+        break;
+      case ElementType::int32:
+        file_.write(dataset_.name, ranges_, converted<std::int32_t>(values_).data());
+        break;
     }
     ranges_.clear();
     values_.clear();
@@ -141,12 +155,21 @@ class ColumnBatch {
  private:
   static constexpr std::size_t kBatchValues = std::size_t{1} << 23;  // 64 MiB
   OutputFile& file_;
-  const DatasetSpec& dataset_;
+  const DatasetSpec dataset_;
   std::vector<PointRange> ranges_;  // ascending: blocks come in order from each rank
   std::vector<double> values_;
 };
 
 }  // namespace
+
+void check_output_names(const RunPlan& plan) {
+  FileLayout layout = make_layout(plan, OutputOptions{}, 1, 1);
+  if (plan.map.basin >= 0) add_names_to_layout(plan, layout);
+  const std::string name = repeated_name(layout);
+  if (!name.empty())
+    throw InputError("the output would hold two datasets named '" + name +
+                     "' (a grid axis or parameter and a measure's dataset); rename the parameter");
+}
 
 void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
                   const OutputOptions& options, MPI_Comm comm) {
@@ -170,7 +193,7 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads),
                                MPI_COMM_NULL); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
-    const DatasetSpec& dataset = plan.columns[k].dataset;
+    const DatasetSpec dataset = written_dataset(plan, options, k);
     if (plan.columns[k].internal) continue;
     if (rank != 0) {
       send_column(results, k, comm);

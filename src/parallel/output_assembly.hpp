@@ -31,6 +31,10 @@ struct OutputOptions {
   const BasinSummary* basins = nullptr;  // the attractor table and statistics, with `basin`
 };
 
+// Before any work: throws InputError if the file would give one name to two of its datasets
+// (a K parameter named `status`, `basin`, `attractor`, ... swept as a grid axis).
+void check_output_names(const RunPlan& plan);
+
 // Collective. `results` are this rank's blocks in ascending order of their points. Throws a
 // CollectiveError on every rank when the file could not be written; no file is then left
 // under either name.

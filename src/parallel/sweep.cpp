@@ -220,6 +220,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   const SceneInfo* scene = &scene_of(spec);
   const MethodInfo* method = find_method(spec.method);
   RunPlan plan(spec, *scene, *method);  // the whole grid: datasets, layout
+  check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
   if (spec.custom) {
@@ -311,14 +312,18 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
 
   std::int64_t lane_steps = 0;
   for (const auto& r : results) lane_steps += r->lane_steps;
-  std::int64_t counts[4] = {count_status(results, plan.map.status, LaneStatus::diverged),
+  std::int64_t counts[6] = {count_status(results, plan.map.status, LaneStatus::diverged),
                             count_status(results, plan.map.status, LaneStatus::breakdown),
+                            count_status(results, plan.map.status, LaneStatus::non_finite),
+                            count_status(results, plan.map.status, LaneStatus::undefined_at_start),
                             computed.load(), lane_steps};
-  allreduce(comm, counts, 4, MPI_INT64_T, MPI_SUM);
+  allreduce(comm, counts, 6, MPI_INT64_T, MPI_SUM);
   summary.flagged_diverged = counts[0];
   summary.flagged_breakdown = counts[1];
-  summary.computed_points = counts[2];
-  summary.lane_steps = counts[3];
+  summary.flagged_non_finite = counts[2];
+  summary.flagged_undefined_at_start = counts[3];
+  summary.computed_points = counts[4];
+  summary.lane_steps = counts[5];
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

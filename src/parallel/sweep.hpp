@@ -26,6 +26,8 @@ struct SweepSummary {
   std::int64_t computed_points = 0;  // integrated by this invocation (not loaded on --resume)
   std::int64_t flagged_diverged = 0;
   std::int64_t flagged_breakdown = 0;
+  std::int64_t flagged_non_finite = 0;          // status 3: a value written is not finite
+  std::int64_t flagged_undefined_at_start = 0;  // status 4: K undefined at the initial state
   std::int64_t lane_steps = 0;  // steps integrated by this invocation: less than computed_points
                                 // × steps where lanes stopped early (a basin decided, a failure)
   double seconds = 0.0;

@@ -47,9 +47,23 @@ struct BasinBox {
   std::array<double, D> lo{}, hi{};
 };
 
+// Whether the trap decides a lane's basin, and if not why (the `energy_trap` attribute,
+// basin_summary.cpp). Stored per lane as a number: the values never change.
+enum class TrapVerdict : int {
+  not_applicable = 0,  // K is not Σp²/2 + V(q) + k·z without t, or exact_trap = false
+  used = 1,
+  no_dissipation = 2,  // k ≥ 0: E never falls
+  no_minimum = 3,      // Newton found no minimum of V in the box
+  boundary_too_low = 4,  // V on the box's boundary is nowhere above the lowest minimum
+  margin_too_large = 5   // the lowest saddle, less the integrator's margin, is not above it
+};
+
 template <int D>
 struct Wells {
   bool usable = false;  // k < 0 and a trap level below which some well exists
+  TrapVerdict verdict = TrapVerdict::not_applicable;
+  BasinBox<D> box{};             // where the critical points were looked for
+  bool boundary_limited = false;  // the level is V's least value on the box's boundary
   double trap_energy = -std::numeric_limits<double>::infinity();  // E < this: trapped (margin in)
   std::vector<std::array<double, D>> minima;
   double curvature = 1.0;  // the largest |eigenvalue| of V's Hessian at a critical point
@@ -66,8 +80,11 @@ class WellFinder {
 
   Wells<D> find() const {
     Wells<D> wells;
+    wells.box = box_;
     if constexpr (has_energy_trap<S>()) {
+      wells.verdict = TrapVerdict::no_dissipation;
       if (!(z_coefficient<S>(c_, 0.0) < 0.0)) return wells;  // no dissipation: E is not a trap
+      wells.verdict = TrapVerdict::no_minimum;
       std::vector<Point> minima, others;
       for (const Point& start : starts()) {
         Point x = start;
@@ -79,18 +96,32 @@ class WellFinder {
       }
       if (minima.empty()) return wells;
       double level = boundary_minimum(), curvature = 0.0, lowest = INFINITY;
-      for (const Point& y : others) level = std::min(level, V(y));
+      double saddle = INFINITY;
+      for (const Point& y : others) saddle = std::min(saddle, V(y));
+      wells.boundary_limited = !(saddle <= level);
+      level = std::min(level, saddle);
       for (const Point& y : minima) lowest = std::min(lowest, V(y));
       for (const auto* list : {&minima, &others})
         for (const Point& y : *list) curvature = std::max(curvature, largest_curvature(y));
       const double margin = h_ * h_ * curvature * std::max(0.0, level - lowest);
       wells.usable = level - margin > lowest;
+      wells.verdict = wells.usable            ? TrapVerdict::used
+                      : wells.boundary_limited ? TrapVerdict::boundary_too_low
+                                               : TrapVerdict::margin_too_large;
       wells.trap_energy = level - margin;
       std::sort(minima.begin(), minima.end());
       wells.minima = minima;
       wells.curvature = std::max(curvature, 1e-12);
     }
     return wells;
+  }
+
+  // V's least value on one face of the box (the lower one if side = 0), as boundary_minimum()
+  // samples it.
+  double face_minimum(int face, int side) const {
+    double least = INFINITY;
+    for (const Point& x : starts_on_face(face, side, kBoundarySamples)) least = std::min(least, V(x));
+    return least;
   }
 
   // The minimum at the bottom of the well holding q (a trapped lane's): steepest descent with
@@ -277,8 +308,9 @@ class WellFinder {
     for (int i = 0; i < D; ++i) w = std::max(w, box_.hi[i] - box_.lo[i]);
     return w;
   }
+  static constexpr int kBoundarySamples = 512;
   double boundary_minimum() const {
-    constexpr int n = 512;
+    constexpr int n = kBoundarySamples;
     double least = INFINITY, most = -INFINITY;
     for (int face = 0; face < D; ++face)
       for (int side = 0; side < 2; ++side)
@@ -332,5 +364,41 @@ class WellFinder {
   BasinBox<D> box_;
   double h_;
 };
+
+// The wells of K over the map's box, found as above. A box whose face lands on or near a
+// minimum of V (a pendulum, V = −cos q, over q ∈ [−3π, 3π]: the box [−6π, 6π] ends at minima)
+// puts the trap level at that minimum, where it traps nothing. When the boundary is what limits
+// the level, each face is moved, one at a time, within ±3/16 of the box's width (so the grid
+// stays inside), to where V's least value on it is highest, scanning outwards from where it was;
+// the moved box is kept if it gives the higher trap level. A box the boundary does not limit is
+// never moved: its wells, and every lane's bits, are what they were.
+template <Scene S>
+Wells<S::dof> find_wells(const ParamsOf<S, double>& c, const BasinBox<S::dof>& box, double h) {
+  constexpr int D = S::dof;
+  Wells<D> wells = WellFinder<S>(c, box, h).find();
+  if (!wells.boundary_limited) return wells;
+  constexpr int kSteps = 24, kPerWidth = 128;
+  BasinBox<D> moved = box;
+  for (int face = 0; face < D; ++face)
+    for (int side = 0; side < 2; ++side) {
+      const double step = (box.hi[face] - box.lo[face]) / kPerWidth;
+      double& edge = side ? moved.hi[face] : moved.lo[face];
+      const double start = edge;
+      double best = WellFinder<S>(c, moved, h).face_minimum(face, side);
+      double best_edge = start;
+      for (int k = 1; k <= 2 * kSteps; ++k) {
+        const int j = k % 2 ? (k + 1) / 2 : -(k / 2);  // 1, −1, 2, −2, ...
+        edge = start + j * step;
+        const double v = WellFinder<S>(c, moved, h).face_minimum(face, side);
+        if (v > best) best = v, best_edge = edge;
+      }
+      edge = best_edge;
+    }
+  if (moved.lo == box.lo && moved.hi == box.hi) return wells;
+  Wells<D> other = WellFinder<S>(c, moved, h).find();
+  const bool better = other.usable > wells.usable ||
+                      (other.usable == wells.usable && other.trap_energy > wells.trap_energy);
+  return better ? other : wells;
+}
 
 }  // namespace cs

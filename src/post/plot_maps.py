@@ -24,7 +24,8 @@ from matplotlib.patches import Patch  # noqa: E402
 
 from basin_entropy import basin_entropy  # noqa: E402  (lives next to this script)
 
-STATUS_NAMES = {1: "diverged", 2: "integrator breakdown"}
+STATUS_NAMES = {1: "diverged", 2: "integrator breakdown", 3: "non-finite output",
+                4: "K undefined at the initial state"}
 BASIN_COLORS = {-1: to_rgb("tab:blue"), 1: to_rgb("tab:red"), 0: (0.55, 0.55, 0.55)}
 BASIN_NAMES = {-1: "left well (−1)", 1: "right well (+1)", 0: "undecided (0)"}
 
