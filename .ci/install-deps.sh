@@ -14,6 +14,8 @@ packages=(
   libginac-dev  # K in the spec: parsed to GiNaC expressions, derivatives for its traits
   # post-processing and tests/test_post.py (Debian's /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib python3-xarray python3-h5netcdf
+  # tests: a second and third user for the security test (useradd, setpriv), taskset
+  passwd util-linux
   # clang + its runtime (libFuzzer, sanitizers) for fuzzing
   clang libclang-rt-14-dev
 )
