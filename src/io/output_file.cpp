@@ -1,12 +1,5 @@
-// HDF5 writer for the result file (see output_file.hpp for the layout contract): serial (sec2
-// driver, no MPI at all) with MPI_COMM_NULL, which is how contactsweep writes; collective
-// (MPI-IO) with a communicator, which the MPI tests exercise.
-//
-// Collectively, every call into HDF5 that touches file metadata (create, attributes, dimension
-// scales, close) is made by all ranks with the same arguments, in the same order, and raw data
-// goes through collective H5Dwrite calls. Every HDF5 result is agreed across ranks (Checker), as
-// are checks that could fail on one rank only (bad ranges, unknown names, file system steps of
-// rank 0), so every rank throws together instead of some ranks hanging.
+// HDF5 writer for the result file (see output_file.hpp for the layout contract): one process,
+// HDF5's serial (sec2) driver, no MPI call (parallel/output_assembly.hpp says why).
 #include "io/output_file.hpp"
 
 #include <hdf5.h>
@@ -99,70 +92,33 @@ std::string fmt_bytes(double bytes) {
   return std::to_string(static_cast<long long>(bytes / (1024.0 * 1024.0))) + " MiB";
 }
 
-// Every rank learns whether all ranks succeeded; used before collective calls so that a local
-// failure turns into an exception on every rank rather than a deadlock.
-// MPI_COMM_NULL: a serial writer, nothing to agree with.
-bool all_ok(bool local_ok, MPI_Comm comm) {
-  if (comm == MPI_COMM_NULL) return local_ok;
-  int ok = local_ok ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, comm);
-  return ok != 0;
-}
-
-// Checks the result of an HDF5 call on every rank together. Parallel HDF5 can fail on some
-// ranks only (a full disk is met by the rank that flushes metadata or writes a piece of a
-// dataset); a rank that threw alone would leave the others inside HDF5's next collective call,
-// hanging the job. So each check is agreed, and every rank throws at the same call. The cost,
-// one small all-reduce per call, is a few hundred all-reduces per file.
+// Checks the result of an HDF5 call: a failure throws, naming the file, the step and HDF5's
+// innermost message.
 class Checker {
  public:
   Checker() = default;
-  Checker(MPI_Comm comm, std::string path) : comm_(comm), path_(std::move(path)) {}
+  explicit Checker(std::string path) : path_(std::move(path)) {}
   // HDF5 identifiers and herr_t are both negative on failure.
   template <typename T>
   T operator()(T result, const std::string& what) const {
-    const bool ok = result >= 0;
-    const std::string detail = ok ? std::string() : hdf5_error_detail();
-    if (!all_ok(ok, comm_)) fail(path_, what, ok ? "failed on another rank" : detail);
+    if (result < 0) fail(path_, what, hdf5_error_detail());
     return result;
   }
   // For HDF5 calls that report through a bool (Handle::close).
   void require(bool ok, const std::string& what) const { (*this)(ok ? 0 : -1, what); }
-  // Agrees on the outcome of steps that differ between ranks (selections): `local_problem` is
-  // empty where this rank's steps succeeded.
-  void agree(const std::string& local_problem) const {
-    if (!all_ok(local_problem.empty(), comm_))
-      throw std::runtime_error(local_problem.empty() ? path_ + ": failed on another rank"
-                                                     : local_problem);
-  }
 
  private:
-  MPI_Comm comm_ = MPI_COMM_NULL;
   std::string path_;
 };
 
-
-// Rank 0 runs `action` (a file-system step); its error message, if any, reaches every rank.
+// A file-system step around HDF5's: its error message, if any, names the file and the step.
 template <typename Action>
-void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& what,
-                     Action&& action) {
-  int rank = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
-  std::string error;
-  if (rank == 0) {
-    try {
-      action();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
+void file_system_step(const std::string& path, const std::string& what, Action&& action) {
+  try {
+    action();
+  } catch (const std::exception& e) {
+    fail(path, what, e.what());
   }
-  int length = static_cast<int>(error.size());
-  if (comm != MPI_COMM_NULL) {
-    MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-    error.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
-  }
-  if (length > 0) fail(path, what, error);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -208,7 +164,7 @@ void place_durably(const std::string& partial_path, const std::string& final_pat
   sync_path(directory.string(), O_RDONLY | O_DIRECTORY);
 }
 
-// Rank 0: proves the disk (and the user's quota, which free-space figures do not show) has room
+// Proves the disk (and the user's quota, which free-space figures do not show) has room
 // for the whole file before HDF5 writes a byte of it. HDF5 does not recover from a full disk in
 // the middle of a file, so the space is claimed with fallocate and released right before HDF5
 // creates the file. Another program may take it in between: that rare case still fails cleanly
@@ -368,7 +324,7 @@ void write_descriptive_attributes(hid_t object, const std::string& long_name,
 }
 
 // ---------------------------------------------------------------------------------------------
-// Chunking. Chunks of about 1 MiB: big enough for efficient parallel I/O, and equal to HDF5's
+// Chunking. Chunks of about 1 MiB: big enough for efficient I/O, and equal to HDF5's
 // default chunk cache so a reader (h5py, xarray) holds a whole chunk. Filling from the last
 // dimension backwards keeps whole trailing rows (whole time series) inside one chunk.
 
@@ -456,7 +412,7 @@ void decompose(std::int64_t begin, std::int64_t end, const std::vector<hsize_t>&
   if (end % row != 0) recurse_in_row(full_end, 0, end % row);
 }
 
-// Ranges that touch are merged first: fewer boxes, and a contiguous rank block becomes one box.
+// Ranges that touch are merged first: fewer boxes, and consecutive blocks become one box.
 std::vector<PointRange> merged(const std::vector<PointRange>& ranges) {
   std::vector<PointRange> out;
   for (const PointRange& r : ranges) {
@@ -490,18 +446,6 @@ hsize_t elements_of(const Box& box) {
   return std::accumulate(box.count.begin(), box.count.end(), hsize_t{1}, std::multiplies<>());
 }
 
-// The file selection is visited in row-major order whatever order the boxes are added in;
-// because the runs are sorted, that is exactly the order of the caller's data buffer.
-void select_boxes(hid_t file_space, const std::vector<Box>& boxes, const std::string& path,
-                  const std::string& what) {
-  H5S_seloper_t op = H5S_SELECT_SET;
-  for (const Box& box : boxes) {
-    if (H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(), nullptr) < 0)
-      fail(path, what, hdf5_error_detail());  // local: the caller agrees on the outcome
-    op = H5S_SELECT_OR;
-  }
-}
-
 // What the finished file takes on disk: every dataset and coordinate, plus room for metadata.
 double expected_bytes(const FileLayout& layout) {
   double points = 1.0, coordinates = 0.0;
@@ -529,8 +473,6 @@ struct OutputFile::Impl {
 
   std::string final_path;
   std::string partial_path;
-  MPI_Comm comm = MPI_COMM_NULL;  // our duplicate: our collectives never mix with the caller's
-  int rank = 0;
   std::vector<hsize_t> grid_dims;  // axis lengths, first slowest
   std::int64_t points = 1;         // product of grid_dims (1: a single trajectory)
   hsize_t time_length = 0;
@@ -538,8 +480,7 @@ struct OutputFile::Impl {
   std::vector<DatasetHandle> coordinates;  // axes..., then t
   std::vector<Dataset> datasets;
   std::vector<DatasetHandle> extra_coordinates, tables;
-  PropertyHandle collective_transfer;
-  Checker checker;  // every HDF5 result, agreed across ranks
+  Checker checker;  // every HDF5 result
   bool committed = false;
 
   [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
@@ -567,7 +508,6 @@ struct OutputFile::Impl {
   bool flush();
   bool close_all();
   void abandon() noexcept;
-  ~Impl();
 };
 
 std::string repeated_name(const FileLayout& layout) {
@@ -646,11 +586,7 @@ PropertyHandle OutputFile::Impl::dataset_creation_properties(const std::vector<h
 void OutputFile::Impl::create_file(const FileLayout& layout) {
   const std::string what = "cannot create the file";
   PropertyHandle fapl(checker(H5Pcreate(H5P_FILE_ACCESS), what));
-  if (comm == MPI_COMM_NULL) {
-    checker(H5Pset_fapl_sec2(fapl.get()), what);
-  } else {
-    checker(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), what);
-  }
+  checker(H5Pset_fapl_sec2(fapl.get()), what);
   PropertyHandle fcpl(checker(H5Pcreate(H5P_FILE_CREATE), what));
   checker(H5Pset_obj_track_times(fcpl.get(), false), what);  // root group
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
@@ -666,17 +602,17 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   }
 }
 
-// Writes a whole dataset of `elements` values that every rank holds: rank 0 alone writes them,
-// the others take part with nothing selected. Ranks differ here, so the selection is checked
-// locally and agreed once.
+// Writes a whole dataset of `elements` values; an empty one (a dimension of length 0, such as
+// `attractor` when nothing settled) with nothing selected.
 void OutputFile::Impl::write_whole(hid_t dataset, hsize_t elements, hid_t mem_type,
                                    const void* data, const std::string& name,
                                    const std::string& what) const {
   SpaceHandle file_space(checker(H5Dget_space(dataset), what));
   SpaceHandle mem_space(checker(H5Screate_simple(1, &elements, nullptr), what));
-  const bool selected = (rank == 0 && elements > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
-                                                        H5Sselect_none(mem_space.get()) >= 0);
-  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
+  if (elements == 0) {
+    checker(H5Sselect_none(file_space.get()), what);
+    checker(H5Sselect_none(mem_space.get()), what);
+  }
   write_selected(dataset, mem_type, file_space.get(), mem_space.get(), data, name);
 }
 
@@ -733,7 +669,7 @@ void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
 void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
                                       hid_t mem_space, const void* data,
                                       const std::string& name) const {
-  checker(H5Dwrite(dataset, mem_type, mem_space, file_space, collective_transfer.get(), data), "cannot write dataset '" + name + "'");
+  checker(H5Dwrite(dataset, mem_type, mem_space, file_space, H5P_DEFAULT, data), "cannot write dataset '" + name + "'");
 }
 
 const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name) const {
@@ -743,54 +679,41 @@ const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name)
   return nullptr;
 }
 
-// Closes datasets before the file: the MPI-IO driver refuses to close a file with open objects.
+// Closes datasets before the file: HDF5 keeps a file open past H5Fclose while objects in it are
+// open (its default, weak close degree), and a close that fails must show here.
 bool OutputFile::Impl::close_all() {
   bool ok = true;
   for (Dataset& d : datasets) ok = d.handle.close() && ok;
   for (DatasetHandle& c : coordinates) ok = c.close() && ok;
   for (DatasetHandle& t : tables) ok = t.close() && ok;
   for (DatasetHandle& c : extra_coordinates) ok = c.close() && ok;
-  ok = collective_transfer.close() && ok;
   ok = file.close() && ok;
   return ok;
 }
 
-// Collective: HDF5 writes its cached metadata. Flushing before closing keeps a failure
-// (a full disk) at a point where every rank still has the file open and can try again.
+// HDF5 writes its cached metadata. Flushing before closing keeps a failure (a full disk) at a
+// point where the file is still open and can be flushed again.
 bool OutputFile::Impl::flush() {
-  return !file.valid() || all_ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0, comm);
+  return !file.valid() || H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0;
 }
 
-// Collective, never throws: the path of every failure (constructor, commit, a destructor called
-// while an exception unwinds) ends here, so nothing is left under either name.
+// Never throws: the path of every failure (constructor, commit, a destructor called while an
+// exception unwinds) ends here, so nothing is left under either name.
 void OutputFile::Impl::abandon() noexcept {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (finalized) return;  // nothing collective is possible any more
   if (!flush()) {
     // The disk is full. Free what the file holds and flush again, so that HDF5 can close it
     // now; a file it failed to close stays open inside HDF5 (main.cpp then skips MPI_Finalize,
     // where HDF5 would try again and crash).
-    if (rank == 0) ::truncate(partial_path.c_str(), 0);
-    if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
+    ::truncate(partial_path.c_str(), 0);
     flush();
   }
   close_all();
   hdf5_error_detail();  // clears the error stack
-  if (rank == 0) {
-    std::error_code ignored;
-    std::filesystem::remove(partial_path, ignored);
-  }
-  if (comm != MPI_COMM_NULL) MPI_Barrier(comm);  // no rank returns while the temporary shows
+  std::error_code ignored;
+  std::filesystem::remove(partial_path, ignored);
 }
 
-OutputFile::Impl::~Impl() {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!finalized && comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
-}
-
-// Empty when this rank's request is well formed, else the reason.
+// Empty when the request is well formed, else the reason.
 std::string OutputFile::Impl::request_problem(const std::string& name,
                                               const std::vector<PointRange>& ranges) const {
   if (committed) return final_path + ": write of '" + name + "' after commit";
@@ -807,7 +730,7 @@ std::string OutputFile::Impl::request_problem(const std::string& name,
 }
 
 void OutputFile::Impl::create(const FileLayout& layout) {
-  validate(layout);  // the same layout on every rank, so every rank throws alike
+  validate(layout);
   for (const CoordinateSpec& axis : layout.axes) {
     grid_dims.push_back(axis.values.size());
     points *= static_cast<std::int64_t>(axis.values.size());
@@ -817,16 +740,10 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   // A stale temporary from a killed run may be anything (read-only, even a directory); start
   // from nothing. remove() takes a link itself away, never what it points to, and fails on a
   // name another user owns in a shared (sticky) directory: then the run is refused.
-  on_rank0_agreed(comm, partial_path, "cannot remove the stale temporary file",
-                  [&] { std::filesystem::remove(partial_path); });
-  on_rank0_agreed(comm, partial_path, "not enough room for the output",
-                  [&] { check_room_for(partial_path, expected_bytes(layout)); });
-
-  collective_transfer =
-      PropertyHandle(checker(H5Pcreate(H5P_DATASET_XFER), "cannot set up writes"));
-  if (comm != MPI_COMM_NULL)
-    checker(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE),
-            "cannot set up collective writes");
+  file_system_step(partial_path, "cannot remove the stale temporary file",
+                   [&] { std::filesystem::remove(partial_path); });
+  file_system_step(partial_path, "not enough room for the output",
+                   [&] { check_room_for(partial_path, expected_bytes(layout)); });
 
   create_file(layout);
   int dim_id = 0;
@@ -889,43 +806,27 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
 
 void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange>& ranges,
                              const void* data) const {
-  const std::string what = "cannot select the points of '" + target.spec.name + "'";
   const std::vector<PointRange> runs = merged(ranges);
   std::int64_t selected_points = 0;
   for (const PointRange& r : runs) selected_points += r.end - r.begin;
   const hsize_t per_point = target.spec.has_time_dim ? time_length : 1;
   const hsize_t elements = static_cast<hsize_t>(selected_points) * per_point;
 
-  if (comm == MPI_COMM_NULL && !grid_dims.empty() && elements > 0) {
+  if (!grid_dims.empty() && elements > 0) {
     write_box_by_box(target, runs, data);
     return;
   }
-  // Each rank selects its own points, in its own number of calls: checked here, agreed once.
-  SpaceHandle file_space, mem_space;
-  std::string problem;
-  try {
-    auto local = [&](auto result) {
-      if (result < 0) fail(partial_path, what, hdf5_error_detail());
-      return result;
-    };
-    file_space = SpaceHandle(local(H5Dget_space(target.handle.get())));
-    const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
-    mem_space = SpaceHandle(local(H5Screate_simple(1, &mem_dims, nullptr)));
-    if (elements == 0) {
-      // Nothing to write here, but H5Dwrite is collective: take part with empty selections.
-      local(H5Sselect_none(mem_space.get()));
-      local(H5Sselect_none(file_space.get()));
-    } else if (grid_dims.empty()) {
-      local(H5Sselect_all(file_space.get()));  // the single point
-    } else {
-      select_boxes(file_space.get(),
-                   boxes_of(runs, grid_dims, target.spec.has_time_dim, time_length),
-                   partial_path, what);
-    }
-  } catch (const std::exception& e) {
-    problem = e.what();
+  // No grid (a single trajectory: its one point selected whole), or nothing to write.
+  const std::string what = "cannot select the points of '" + target.spec.name + "'";
+  SpaceHandle file_space(checker(H5Dget_space(target.handle.get()), what));
+  const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
+  SpaceHandle mem_space(checker(H5Screate_simple(1, &mem_dims, nullptr), what));
+  if (elements == 0) {
+    checker(H5Sselect_none(mem_space.get()), what);
+    checker(H5Sselect_none(file_space.get()), what);
+  } else {
+    checker(H5Sselect_all(file_space.get()), what);
   }
-  checker.agree(problem);
   write_selected(target.handle.get(), memory_type(target.spec.type), file_space.get(),
                  mem_space.get(), data, target.spec.name);
 }
@@ -954,17 +855,13 @@ void OutputFile::Impl::write_box_by_box(const Dataset& target,
 
 // ---------------------------------------------------------------------------------------------
 
-OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, MPI_Comm comm)
+OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout)
     : impl_(std::make_unique<Impl>()) {
   impl_->final_path = final_path;
   impl_->partial_path = final_path + ".partial";
   // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (comm != MPI_COMM_NULL) {
-    MPI_Comm_dup(comm, &impl_->comm);
-    MPI_Comm_rank(impl_->comm, &impl_->rank);
-  }
-  impl_->checker = Checker(impl_->comm, impl_->partial_path);
+  impl_->checker = Checker(impl_->partial_path);
   try {
     impl_->create(layout);
   } catch (...) {
@@ -979,13 +876,8 @@ OutputFile::~OutputFile() {
 
 void OutputFile::write(const std::string& dataset, const std::vector<PointRange>& ranges,
                        const void* data) {
-  // A bad request on one rank must not leave the others waiting inside H5Dwrite.
   const std::string problem = impl_->request_problem(dataset, ranges);
-  if (!all_ok(problem.empty(), impl_->comm)) {
-    throw std::runtime_error(problem.empty() ? impl_->partial_path + ": write of '" + dataset +
-                                                   "' refused on another rank"
-                                             : problem);
-  }
+  if (!problem.empty()) throw std::runtime_error(problem);
   impl_->write(*impl_->find(dataset), ranges, data);
 }
 
@@ -994,9 +886,8 @@ void OutputFile::commit(bool replace_existing) {
   if (s.committed) fail(s.final_path, "commit called twice");
   s.checker.require(s.flush(), "cannot write the file's metadata");
   s.checker.require(s.close_all(), "cannot close the file");
-  // H5Fclose is collective, so every rank's data is in the file before the name appears.
-  on_rank0_agreed(s.comm, s.final_path, "cannot put the finished file in place",
-                  [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
+  file_system_step(s.final_path, "cannot put the finished file in place",
+                   [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
   s.committed = true;
 }
 

@@ -190,8 +190,7 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     }
   };
   if (rank == 0)
-    attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads),
-                               MPI_COMM_NULL); });
+    attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads)); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec dataset = written_dataset(plan, options, k);
     if (plan.columns[k].internal) continue;
