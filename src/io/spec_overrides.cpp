@@ -9,8 +9,8 @@
 #include <cctype>
 #include <utility>
 
-#include "io/run_spec.hpp"
 #include "io/spec_text.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs::spec {
 namespace {

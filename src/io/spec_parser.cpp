@@ -57,10 +57,4 @@ RunSpec load_run_spec(const std::string& path, const std::vector<std::string>& o
   return parse_run_spec(read_spec_file(path), overrides, path);
 }
 
-std::int64_t RunSpec::grid_points() const {
-  std::int64_t points = 1;
-  for (const GridAxis& axis : axes) points *= std::ssize(axis.values);
-  return points;
-}
-
 }  // namespace cs

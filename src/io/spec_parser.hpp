@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "io/linspace.hpp"  // for callers of linspace, which the spec files use
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "io/run_spec.hpp"
 #include "io/spec_names.hpp"
+#include "model/run_spec.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs::spec {

@@ -11,8 +11,8 @@
 
 #include "formula/custom_scene.hpp"
 #include "io/output_file.hpp"
-#include "parallel/agreement.hpp"
-#include "parallel/comm.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
 #include "version.hpp"
 
 namespace cs {
