@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/journal_writer.hpp"
 #include "parallel/run_identity.hpp"

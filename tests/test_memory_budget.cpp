@@ -10,7 +10,7 @@
 #include <string>
 
 #include "io/memory_budget.hpp"
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 namespace {

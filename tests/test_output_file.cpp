@@ -1,17 +1,13 @@
-// OutputFile under MPI: ranks write interleaved, ragged point ranges collectively (and rank 0
-// alone through the serial writer, MPI_COMM_NULL); rank 0 reads the committed file back with plain
-// serial HDF5 and checks every cell against a function of its flat index, the dimension scales, the
-// attributes and the temporary-file protocol.
-//
-// Every test does its collective work first and its rank-0 assertions last, so a failing check
-// cannot leave other ranks waiting in a collective call.
+// OutputFile, as contactsweep writes (one process, box by box): ragged, adjacent and gappy point
+// ranges; the committed file is read back with plain HDF5 and every cell checked against a
+// function of its flat index, with the dimension scales, the attributes and the temporary-file
+// protocol.
 //
 // The main file (and a scalar one next to it) are kept for tests/test_xarray_open.py: their path is
-// $CONTACTSWEEP_TEST_OUT, default /tmp/contactsweep_output_test_np<ranks>.h5.
+// $CONTACTSWEEP_TEST_OUT, default /tmp/contactsweep_output_test.h5.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <hdf5_hl.h>
-#include <mpi.h>
 
 #include <algorithm>
 #include <chrono>
@@ -38,24 +34,11 @@ using cs::FileLayout;
 using cs::OutputFile;
 using cs::PointRange;
 
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-int world_size() {
-  int size = 0;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
-
-// Rank-count dependent default, so np1 and np2 runs can go side by side.
 std::string output_path() {
   if (const char* path = std::getenv("CONTACTSWEEP_TEST_OUT"); path != nullptr && *path != '\0') {
     return path;
   }
-  return "/tmp/contactsweep_output_test_np" + std::to_string(world_size()) + ".h5";
+  return "/tmp/contactsweep_output_test.h5";
 }
 
 // Another file next to the main one: "<dir>/<stem>_<tag>.h5".
@@ -70,12 +53,9 @@ bool exists(const std::string& path) { return std::filesystem::exists(path); }
 // path, must have closed everything it opened.
 ssize_t open_hdf5_objects() { return H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL); }
 
-void remove_on_rank0(const std::string& path) {
-  if (world_rank() == 0) {
-    std::filesystem::remove(path);
-    std::filesystem::remove(path + ".partial");
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+void remove_both(const std::string& path) {
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + ".partial");
 }
 
 std::vector<double> linspace(double from, double to, int n) {
@@ -84,32 +64,30 @@ std::vector<double> linspace(double from, double to, int n) {
   return v;
 }
 
-// Blocks of sizes 1, 2, ..., max_block, 1, 2, ... dealt round-robin to the ranks: ragged,
-// interleaved, and (at np 1) adjacent, so both merging and every kind of row boundary occur.
-std::vector<PointRange> ragged_ranges(std::int64_t points, int rank, int size, int max_block) {
-  std::vector<PointRange> mine;
+// Blocks of sizes 1, 2, ..., max_block, 1, 2, ...: ragged and adjacent, so both merging and
+// every kind of row boundary occur.
+std::vector<PointRange> ragged_ranges(std::int64_t points, int max_block) {
+  std::vector<PointRange> ranges;
   std::int64_t begin = 0;
   for (int block = 0; begin < points; ++block) {
     const std::int64_t end = std::min<std::int64_t>(points, begin + 1 + block % max_block);
-    if (block % size == rank) mine.push_back({begin, end});
+    ranges.push_back({begin, end});
     begin = end;
   }
-  return mine;
+  return ranges;
 }
 
-// Like ragged_ranges, but only every other block is written (dealt round-robin among the ranks):
-// gaps between ranges whatever the rank count, so even np 1 sees ranges that start and end
-// inside rows. written_in_gappy() tells which points those are.
-std::vector<PointRange> gappy_ranges(std::int64_t points, int rank, int size, int max_block) {
-  std::vector<PointRange> mine;
+// Like ragged_ranges, but only every other block is written: gaps between ranges, which start
+// and end inside rows. written_in_gappy() tells which points those are.
+std::vector<PointRange> gappy_ranges(std::int64_t points, int max_block) {
+  std::vector<PointRange> ranges;
   std::int64_t begin = 0;
-  int kept = 0;
   for (int block = 0; begin < points; ++block) {
     const std::int64_t end = std::min<std::int64_t>(points, begin + 1 + block % max_block);
-    if (block % 2 == 1 && kept++ % size == rank) mine.push_back({begin, end});
+    if (block % 2 == 1) ranges.push_back({begin, end});
     begin = end;
   }
-  return mine;
+  return ranges;
 }
 
 bool written_in_gappy(std::int64_t point, int max_block) {
@@ -119,14 +97,6 @@ bool written_in_gappy(std::int64_t point, int max_block) {
     if (point < end) return block % 2 == 1;
     begin = end;
   }
-}
-
-// One contiguous share per rank, as a block distribution would give.
-std::vector<PointRange> block_ranges(std::int64_t points, int rank, int size) {
-  const std::int64_t begin = points * rank / size;
-  const std::int64_t end = points * (rank + 1) / size;
-  if (begin == end) return {};
-  return {{begin, end}};
 }
 
 // The part of `ranges` below `limit`.
@@ -153,7 +123,7 @@ std::vector<T> values_for(const std::vector<PointRange>& ranges, std::int64_t pe
 }
 
 // ---------------------------------------------------------------------------------------------
-// Serial read-back helpers (rank 0).
+// Read-back helpers.
 
 struct Reader {
   hid_t file = H5I_INVALID_HID;
@@ -272,7 +242,7 @@ DatasetSpec flags(const std::string& name, ElementType type, const std::string& 
   return spec;
 }
 
-// The 2-axis layout (7 x 5, neither divisible by the rank counts or block sizes) with a time axis.
+// The 2-axis layout (7 x 5, neither divisible by the block sizes) with a time axis.
 
 constexpr std::int64_t kNq = 7;
 constexpr std::int64_t kNgamma = 5;
@@ -310,15 +280,11 @@ FileLayout grid_layout() {
 }
 
 // Writes every dataset of grid_layout(): settle_time and label only on the first half of the
-// points, so the fill values must show in the other half. Collectively by all ranks over
-// MPI_COMM_WORLD, or with MPI_COMM_NULL by this process alone (the serial writer, which is how
-// contactsweep writes): then it writes every point itself.
-void write_grid_file(const std::string& path, MPI_Comm comm = MPI_COMM_WORLD) {
-  const bool alone = comm == MPI_COMM_NULL;
-  const std::vector<PointRange> mine =
-      ragged_ranges(kPoints, alone ? 0 : world_rank(), alone ? 1 : world_size(), /*max_block=*/4);
+// points, so the fill values must show in the other half.
+void write_grid_file(const std::string& path) {
+  const std::vector<PointRange> mine = ragged_ranges(kPoints, /*max_block=*/4);
   const std::vector<PointRange> half = clipped(mine, kPoints / 2);
-  OutputFile out(path, grid_layout(), comm);
+  OutputFile out(path, grid_layout());
   out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
   out.write("traj_q", mine, values_for<double>(mine, kNt, traj_q).data());
   out.write("settle_time", half, values_for<double>(half, 1, settle_time).data());
@@ -404,36 +370,21 @@ void expect_grid_file(const std::string& path) {
   H5Dclose(la);
 }
 
+// The writer goes box by box, from memory spaces of each box's shape: every cell must land.
+// The file is kept for test_xarray_open.py.
 TEST(OutputFile, TwoAxisRaggedRangesRoundTrip) {
   const std::string path = output_path();
-  remove_on_rank0(path);
+  remove_both(path);
   write_grid_file(path);
-  EXPECT_EQ(open_hdf5_objects(), 0);
-  MPI_Barrier(MPI_COMM_WORLD);
-  EXPECT_TRUE(exists(path)) << "rank " << world_rank();
-  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
-  if (world_rank() != 0) return;
-  expect_grid_file(path);
-}
-
-// The serial writer (MPI_COMM_NULL) writes box by box from memory spaces of each box's shape,
-// a path of its own beside the collective one; the file must be the same in every cell.
-TEST(OutputFile, SerialWriterTwoAxisRoundTrip) {
-  if (world_size() > 1) GTEST_SKIP() << "one process writes alone: runs at np 1";
-  const std::string path = sibling_path("serial");
-  std::filesystem::remove(path);
-  write_grid_file(path, MPI_COMM_NULL);
   EXPECT_EQ(open_hdf5_objects(), 0);
   EXPECT_TRUE(exists(path));
   EXPECT_FALSE(exists(path + ".partial"));
   expect_grid_file(path);
-  std::filesystem::remove(path);
 }
 
 // Three axes and several distributions in one file: the flat-range-to-hyperslab decomposition
-// meets partial and whole rows at every level, at any rank count (the gappy distributions leave
-// holes even at np 1, where ragged blocks merge into one range). Written as `rank` of `size`
-// over `comm`; expect_three_axes_file() checks it.
+// meets partial and whole rows at every level (the gappy distributions leave holes, where ragged
+// blocks merge into one range). expect_three_axes_file() checks it.
 constexpr std::int64_t kPts = 3 * 4 * 5;
 constexpr std::int64_t kT = 3;
 constexpr int kMaxGap = 12;
@@ -442,12 +393,12 @@ double three_axes_value(std::int64_t i, std::int64_t j) {
 }
 
 std::vector<std::string> three_axes_names() {
-  std::vector<std::string> names = {"ragged7", "ragged13", "blocks", "last_rank", "empty"};
+  std::vector<std::string> names = {"ragged7", "ragged13", "whole", "empty"};
   for (int m = 1; m <= kMaxGap; ++m) names.push_back("gappy" + std::to_string(m));
   return names;
 }
 
-void write_three_axes_file(const std::string& path, MPI_Comm comm, int rank, int size) {
+void write_three_axes_file(const std::string& path) {
   FileLayout layout;
   layout.axes = {{"a", linspace(0, 1, 3), "a", ""},
                  {"b", linspace(0, 1, 4), "b", ""},
@@ -455,16 +406,12 @@ void write_three_axes_file(const std::string& path, MPI_Comm comm, int rank, int
   layout.time = CoordinateSpec{"t", linspace(0, 1, kT), "time", ""};
   const std::vector<std::string> names = three_axes_names();
   std::vector<std::vector<PointRange>> distributions = {
-      ragged_ranges(kPts, rank, size, 7),
-      ragged_ranges(kPts, rank, size, 13),
-      block_ranges(kPts, rank, size),
-      rank == size - 1 ? std::vector<PointRange>{{0, kPts}} : std::vector<PointRange>{},
-      {}};
-  for (int m = 1; m <= kMaxGap; ++m) distributions.push_back(gappy_ranges(kPts, rank, size, m));
+      ragged_ranges(kPts, 7), ragged_ranges(kPts, 13), {{0, kPts}}, {}};
+  for (int m = 1; m <= kMaxGap; ++m) distributions.push_back(gappy_ranges(kPts, m));
   for (const std::string& name : names) {
     layout.datasets.push_back(measure(name, name, /*time=*/true));
   }
-  OutputFile out(path, layout, comm);
+  OutputFile out(path, layout);
   for (std::size_t d = 0; d < names.size(); ++d) {
     out.write(names[d], distributions[d],
               values_for<double>(distributions[d], kT, three_axes_value).data());
@@ -494,22 +441,15 @@ void expect_three_axes_file(const std::string& path) {
 
 TEST(OutputFile, ThreeAxesEveryDistribution) {
   const std::string path = sibling_path("3axes");
-  remove_on_rank0(path);
-  write_three_axes_file(path, MPI_COMM_WORLD, world_rank(), world_size());
-  if (world_rank() == 0) expect_three_axes_file(path);
-}
-
-TEST(OutputFile, SerialWriterThreeAxesEveryDistribution) {
-  if (world_size() > 1) GTEST_SKIP() << "one process writes alone: runs at np 1";
-  const std::string path = sibling_path("3axes_serial");
   std::filesystem::remove(path);
-  write_three_axes_file(path, MPI_COMM_NULL, 0, 1);
+  write_three_axes_file(path);
   EXPECT_EQ(open_hdf5_objects(), 0);
   expect_three_axes_file(path);
   std::filesystem::remove(path);
 }
 
-// No grid: one trajectory, scalar datasets and time series of shape (t). The last rank writes it.
+// No grid: one trajectory, scalar datasets and time series of shape (t). The file is kept for
+// test_xarray_open.py.
 FileLayout scalar_layout() {
   FileLayout layout;
   layout.time = CoordinateSpec{"t", linspace(0.0, 5.0, 6), "time", ""};
@@ -525,22 +465,20 @@ FileLayout scalar_layout() {
 
 TEST(OutputFile, ScalarLayout) {
   const std::string path = sibling_path("scalar");
-  remove_on_rank0(path);
-  const bool writer = world_rank() == world_size() - 1;
-  const std::vector<PointRange> mine =
-      writer ? std::vector<PointRange>{{0, 1}} : std::vector<PointRange>{};
+  remove_both(path);
+  const std::vector<PointRange> mine = {{0, 1}};
   const double q = 0.75;
   const std::uint8_t status = 1;
   const std::vector<double> traj = {0, 1, 2, 3, 4, 5};
   {
-    OutputFile out(path, scalar_layout(), MPI_COMM_WORLD);
+    OutputFile out(path, scalar_layout());
     out.write("final_q", mine, &q);
     out.write("status", mine, &status);
     out.write("traj_q", mine, traj.data());
     out.write("final_p", {}, nullptr);
     out.commit();
   }
-  if (world_rank() != 0) return;
+  EXPECT_EQ(open_hdf5_objects(), 0);
   Reader r(path);
   ASSERT_GE(r.file, 0);
   EXPECT_TRUE(shape_of(r.file, "final_q").empty());
@@ -557,26 +495,24 @@ TEST(OutputFile, ScalarLayout) {
 
 TEST(OutputFile, UncommittedLeavesNoFile) {
   const std::string path = sibling_path("uncommitted");
-  remove_on_rank0(path);
+  remove_both(path);
   {
-    const std::vector<PointRange> mine = block_ranges(kPoints, world_rank(), world_size());
-    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    const std::vector<PointRange> mine = {{0, kPoints}};
+    OutputFile out(path, grid_layout());
     out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
     EXPECT_TRUE(exists(path + ".partial"));
     EXPECT_FALSE(exists(path));
   }
-  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
-  EXPECT_FALSE(exists(path)) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path + ".partial"));
+  EXPECT_FALSE(exists(path));
   EXPECT_EQ(open_hdf5_objects(), 0);
 }
 
 TEST(OutputFile, StaleTemporaryIsReplaced) {
   const std::string path = sibling_path("stale");
-  remove_on_rank0(path);
-  if (world_rank() == 0) std::ofstream(path + ".partial") << "left behind by a killed run";
-  MPI_Barrier(MPI_COMM_WORLD);
+  remove_both(path);
+  std::ofstream(path + ".partial") << "left behind by a killed run";
   write_grid_file(path);
-  if (world_rank() != 0) return;
   EXPECT_FALSE(exists(path + ".partial"));
   Reader r(path);
   ASSERT_GE(r.file, 0);
@@ -595,12 +531,11 @@ std::string file_bytes(const std::string& path) {
 TEST(OutputFile, IdenticalRunsGiveIdenticalBytes) {
   const std::string first = sibling_path("same1");
   const std::string second = sibling_path("same2");
-  remove_on_rank0(first);
-  remove_on_rank0(second);
+  remove_both(first);
+  remove_both(second);
   write_grid_file(first);
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));
   write_grid_file(second);
-  if (world_rank() != 0) return;
   const std::string a = file_bytes(first);
   EXPECT_FALSE(a.empty());
   EXPECT_TRUE(a == file_bytes(second)) << first << " and " << second << " differ";
@@ -608,28 +543,24 @@ TEST(OutputFile, IdenticalRunsGiveIdenticalBytes) {
   std::filesystem::remove(second);
 }
 
-// A request that is bad on one rank only makes every rank throw (no rank is left inside a
-// collective write), and the file stays usable.
-TEST(OutputFile, BadRequestsThrowOnEveryRankAndLeaveTheFileUsable) {
+// A bad request throws, and the file stays usable.
+TEST(OutputFile, BadRequestsThrowAndLeaveTheFileUsable) {
   const std::string path = sibling_path("bad_requests");
-  remove_on_rank0(path);
-  const std::vector<PointRange> mine = block_ranges(kPoints, world_rank(), world_size());
+  remove_both(path);
+  const std::vector<PointRange> mine = {{0, kPoints}};
   const std::vector<double> values = values_for<double>(mine, 1, final_q);
   {
-    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    OutputFile out(path, grid_layout());
     EXPECT_THROW(out.write("no_such_dataset", mine, values.data()), std::runtime_error);
-    const std::vector<PointRange> bad =
-        world_rank() == 0 ? std::vector<PointRange>{{0, kPoints + 1}} : mine;
+    const std::vector<PointRange> bad = {{0, kPoints + 1}};
     EXPECT_THROW(out.write("final_q", bad, values.data()), std::runtime_error);
-    const std::vector<PointRange> unsorted =
-        world_rank() == 0 ? std::vector<PointRange>{{4, 6}, {0, 2}} : mine;
+    const std::vector<PointRange> unsorted = {{4, 6}, {0, 2}};
     EXPECT_THROW(out.write("final_q", unsorted, values.data()), std::runtime_error);
     out.write("final_q", mine, values.data());
     out.commit();
     EXPECT_THROW(out.commit(), std::runtime_error);
   }
   EXPECT_EQ(open_hdf5_objects(), 0);
-  if (world_rank() != 0) return;
   Reader r(path);
   ASSERT_GE(r.file, 0);
   EXPECT_EQ(read_all<double>(r.file, "final_q", H5T_NATIVE_DOUBLE)[kPoints - 1],
@@ -640,7 +571,7 @@ TEST(OutputFile, BadRequestsThrowOnEveryRankAndLeaveTheFileUsable) {
 TEST(OutputFile, CreationFailureNamesThePath) {
   const std::string path = "/nonexistent-contactsweep-dir/out.h5";
   try {
-    OutputFile out(path, grid_layout(), MPI_COMM_WORLD);
+    OutputFile out(path, grid_layout());
     ADD_FAILURE() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -650,23 +581,22 @@ TEST(OutputFile, CreationFailureNamesThePath) {
 
 TEST(OutputFile, InvalidLayoutsAreRejected) {
   const std::string path = sibling_path("invalid");
-  remove_on_rank0(path);
+  remove_both(path);
   FileLayout no_time = grid_layout();
   no_time.time.reset();
-  EXPECT_THROW(OutputFile(path, no_time, MPI_COMM_WORLD), std::runtime_error);
+  EXPECT_THROW(OutputFile(path, no_time), std::runtime_error);
   FileLayout twice = grid_layout();
   twice.datasets.push_back(twice.datasets.front());
-  EXPECT_THROW(OutputFile(path, twice, MPI_COMM_WORLD), std::runtime_error);
+  EXPECT_THROW(OutputFile(path, twice), std::runtime_error);
   FileLayout clash = grid_layout();
   clash.datasets.front().name = "gamma";
-  EXPECT_THROW(OutputFile(path, clash, MPI_COMM_WORLD), std::runtime_error);
+  EXPECT_THROW(OutputFile(path, clash), std::runtime_error);
   FileLayout wide_flag = grid_layout();
   wide_flag.datasets[3].flag_values.push_back(300);  // status is uint8
-  EXPECT_THROW(OutputFile(path, wide_flag, MPI_COMM_WORLD), std::runtime_error);
+  EXPECT_THROW(OutputFile(path, wide_flag), std::runtime_error);
   FileLayout empty_axis = grid_layout();
   empty_axis.axes[1].values.clear();
-  EXPECT_THROW(OutputFile(path, empty_axis, MPI_COMM_WORLD), std::runtime_error);
-  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_THROW(OutputFile(path, empty_axis), std::runtime_error);
   EXPECT_FALSE(exists(path));
   EXPECT_FALSE(exists(path + ".partial"));
   EXPECT_EQ(open_hdf5_objects(), 0);
@@ -676,18 +606,18 @@ TEST(OutputFile, InvalidLayoutsAreRejected) {
 // cleans up (no destructor runs for it) and says which path and which dataset failed.
 TEST(OutputFile, FailureDuringCreationCleansUp) {
   const std::string path = sibling_path("bad_name");
-  remove_on_rank0(path);
+  remove_both(path);
   FileLayout layout = grid_layout();
   layout.datasets.back().name = ".";
   try {
-    OutputFile out(path, layout, MPI_COMM_WORLD);
+    OutputFile out(path, layout);
     ADD_FAILURE() << "no exception";
   } catch (const std::runtime_error& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find(path + ".partial"), std::string::npos) << message;
     EXPECT_NE(message.find("dataset '.'"), std::string::npos) << message;
   }
-  EXPECT_FALSE(exists(path + ".partial")) << "rank " << world_rank();
+  EXPECT_FALSE(exists(path + ".partial"));
   EXPECT_FALSE(exists(path));
   EXPECT_EQ(open_hdf5_objects(), 0);
 }

@@ -7,9 +7,9 @@
 
 #include "io/log.hpp"
 #include "io/spec_parser.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
 #include "numerics/method_catalog.hpp"
-#include "parallel/agreement.hpp"
-#include "parallel/comm.hpp"
 #include "parallel/sweep.hpp"
 #include "physics/scene_catalog.hpp"
 

@@ -14,9 +14,9 @@
 #include "cli/commands.hpp"
 #include "io/log.hpp"
 #include "io/output_file.hpp"
-#include "io/run_spec.hpp"
-#include "parallel/agreement.hpp"
-#include "parallel/comm.hpp"
+#include "model/run_spec.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
 #include "version.hpp"
 
 namespace {
@@ -95,7 +95,7 @@ bool started_by_launcher() {
 }
 
 int run(int argc, char** argv, const cs::RunArguments& arguments) {
-  MPI_Comm comm = MPI_COMM_NULL;  // one process without MPI (parallel/comm.hpp)
+  MPI_Comm comm = MPI_COMM_NULL;  // one process without MPI (mpi/comm.hpp)
   if (started_by_launcher()) {
     // Funneled: OpenMP threads compute while the main thread alone talks MPI (sweep.cpp polls
     // whether another rank failed between blocks).
@@ -107,7 +107,7 @@ int run(int argc, char** argv, const cs::RunArguments& arguments) {
   int status = 0;
   try {
     status = cs::run_command(arguments, comm);
-  } catch (const cs::InputError& e) {  // every rank throws it together (parallel/agreement.hpp)
+  } catch (const cs::InputError& e) {  // every rank throws it together (mpi/agreement.hpp)
     if (rank == 0) cs::log("contactsweep: error: {}", e.what());
     status = 2;
   } catch (const cs::CollectiveError& e) {

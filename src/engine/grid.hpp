@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs {

@@ -11,7 +11,7 @@
 
 #include "engine/grid.hpp"
 #include "engine/results.hpp"
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 #include "numerics/lane_state.hpp"
 #include "numerics/method_catalog.hpp"
 #include "physics/scene_catalog.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "formula/k_formula.hpp"
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs {

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "io/run_spec.hpp"             // InputError
+#include "model/run_spec.hpp"             // InputError
 #include "physics/scene_concept.hpp"   // ZPart
 
 namespace cs {

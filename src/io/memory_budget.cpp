@@ -14,7 +14,7 @@
 #include <string_view>
 #include <utility>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 namespace {

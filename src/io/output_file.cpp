@@ -1,25 +1,15 @@
-// HDF5 writer for the result file (see output_file.hpp for the layout contract): serial (sec2
-// driver, no MPI at all) with MPI_COMM_NULL, which is how contactsweep writes; collective
-// (MPI-IO) with a communicator, which the MPI tests exercise.
-//
-// Collectively, every call into HDF5 that touches file metadata (create, attributes, dimension
-// scales, close) is made by all ranks with the same arguments, in the same order, and raw data
-// goes through collective H5Dwrite calls. Every HDF5 result is agreed across ranks (Checker), as
-// are checks that could fail on one rank only (bad ranges, unknown names, file system steps of
-// rank 0), so every rank throws together instead of some ranks hanging.
+// HDF5 writer for the result file (see output_file.hpp for the layout contract): one process,
+// HDF5's serial (sec2) driver, no MPI call (parallel/output_assembly.hpp says why).
 #include "io/output_file.hpp"
 
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <set>
@@ -27,478 +17,21 @@
 #include <string>
 #include <utility>
 
+#include "io/durable_file.hpp"
+#include "io/hdf5_objects.hpp"
+#include "io/point_boxes.hpp"
+
 namespace cs {
+using namespace hdf5;
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Small RAII owners of HDF5 identifiers: one per kind, each calls its own H5*close.
-
-template <herr_t (*Close)(hid_t)>
-class Handle {
- public:
-  Handle() = default;
-  explicit Handle(hid_t id) : id_(id) {}
-  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)) {}
-  Handle& operator=(Handle&& other) noexcept {
-    if (this != &other) {
-      close();
-      id_ = std::exchange(other.id_, H5I_INVALID_HID);
-    }
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { close(); }
-
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-  // Closes now and reports whether HDF5 accepted it (the destructor cannot report).
-  // Never retried: HDF5 may have freed part of an object whose close failed.
-  bool close() {
-    if (!valid()) return true;
-    const herr_t status = Close(std::exchange(id_, H5I_INVALID_HID));
-    return status >= 0;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-};
-
-using FileHandle = Handle<H5Fclose>;
-using DatasetHandle = Handle<H5Dclose>;
-using SpaceHandle = Handle<H5Sclose>;
-using TypeHandle = Handle<H5Tclose>;
-using PropertyHandle = Handle<H5Pclose>;
-using AttributeHandle = Handle<H5Aclose>;
-
-// ---------------------------------------------------------------------------------------------
-// Error reporting. HDF5's own printing is switched off; on failure we pull the innermost message
-// (usually the root cause, e.g. "No such file or directory") out of the error stack.
-
-herr_t remember_innermost(unsigned, const H5E_error2_t* error, void* out) {
-  if (error->desc != nullptr && *error->desc != '\0') {
-    *static_cast<std::string*>(out) = error->desc;
-  }
-  return 0;
-}
-
-std::string hdf5_error_detail() {
-  std::string detail;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, remember_innermost, &detail);
-  H5Eclear2(H5E_DEFAULT);
-  return detail;
-}
-
-[[noreturn]] void fail(const std::string& path, const std::string& what, std::string detail = {}) {
-  std::string message = path + ": " + what;
-  if (!detail.empty()) message += " (" + detail + ")";
-  throw std::runtime_error(message);
-}
-
-std::string fmt_bytes(double bytes) {
-  return std::to_string(static_cast<long long>(bytes / (1024.0 * 1024.0))) + " MiB";
-}
-
-// Every rank learns whether all ranks succeeded; used before collective calls so that a local
-// failure turns into an exception on every rank rather than a deadlock.
-// MPI_COMM_NULL: a serial writer, nothing to agree with.
-bool all_ok(bool local_ok, MPI_Comm comm) {
-  if (comm == MPI_COMM_NULL) return local_ok;
-  int ok = local_ok ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, comm);
-  return ok != 0;
-}
-
-// Checks the result of an HDF5 call on every rank together. Parallel HDF5 can fail on some
-// ranks only (a full disk is met by the rank that flushes metadata or writes a piece of a
-// dataset); a rank that threw alone would leave the others inside HDF5's next collective call,
-// hanging the job. So each check is agreed, and every rank throws at the same call. The cost,
-// one small all-reduce per call, is a few hundred all-reduces per file.
-class Checker {
- public:
-  Checker() = default;
-  Checker(MPI_Comm comm, std::string path) : comm_(comm), path_(std::move(path)) {}
-  // HDF5 identifiers and herr_t are both negative on failure.
-  template <typename T>
-  T operator()(T result, const std::string& what) const {
-    const bool ok = result >= 0;
-    const std::string detail = ok ? std::string() : hdf5_error_detail();
-    if (!all_ok(ok, comm_)) fail(path_, what, ok ? "failed on another rank" : detail);
-    return result;
-  }
-  // For HDF5 calls that report through a bool (Handle::close).
-  void require(bool ok, const std::string& what) const { (*this)(ok ? 0 : -1, what); }
-  // Agrees on the outcome of steps that differ between ranks (selections): `local_problem` is
-  // empty where this rank's steps succeeded.
-  void agree(const std::string& local_problem) const {
-    if (!all_ok(local_problem.empty(), comm_))
-      throw std::runtime_error(local_problem.empty() ? path_ + ": failed on another rank"
-                                                     : local_problem);
-  }
-
- private:
-  MPI_Comm comm_ = MPI_COMM_NULL;
-  std::string path_;
-};
-
-
-// Rank 0 runs `action` (a file-system step); its error message, if any, reaches every rank.
+// A file-system step around HDF5's: its error message, if any, names the file and the step.
 template <typename Action>
-void on_rank0_agreed(MPI_Comm comm, const std::string& path, const std::string& what,
-                     Action&& action) {
-  int rank = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
-  std::string error;
-  if (rank == 0) {
-    try {
-      action();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  int length = static_cast<int>(error.size());
-  if (comm != MPI_COMM_NULL) {
-    MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-    error.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
-  }
-  if (length > 0) fail(path, what, error);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Putting the finished file in place, durably: its data reaches the disk before its name does,
-// and the name before the caller removes the journal (a node crash in between must not leave a
-// truncated file and no journal).
-
-void sync_path(const std::string& path, int flags) {
-  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
-  const int status = ::fsync(fd);
-  const int error = errno;
-  ::close(fd);
-  // Some file systems cannot sync a directory (EINVAL): the rename is then as durable as it gets.
-  if (status != 0 && !(error == EINVAL && (flags & O_DIRECTORY)))
-    throw std::runtime_error("cannot sync " + path + ": " + std::strerror(error));
-}
-
-// Without `replace`, a file that appeared at `final_path` while the run computed is never
-// replaced: link() fails if the name exists, where rename() would silently overwrite it.
-void place_durably(const std::string& partial_path, const std::string& final_path, bool replace) {
-  sync_path(partial_path, O_RDONLY | O_NOFOLLOW);
-  if (replace) {
-    std::filesystem::rename(partial_path, final_path);
-  } else if (::link(partial_path.c_str(), final_path.c_str()) == 0) {
-    std::filesystem::remove(partial_path);
-  } else if (errno == EEXIST) {
-    throw std::runtime_error(
-        "'" + final_path + "' appeared while this run was computing (made by another program); "
-        "it was not replaced. Every finished block is kept in the journal: move that file away "
-        "and run again with --resume");
-  } else if (errno == EPERM || errno == EOPNOTSUPP || errno == EXDEV || errno == EMLINK) {
-    // A file system without hard links: check, then rename (a window of a few microseconds).
-    if (std::filesystem::exists(final_path))
-      throw std::runtime_error("'" + final_path + "' appeared while this run was computing; it "
-                               "was not replaced: move it away and run again with --resume");
-    std::filesystem::rename(partial_path, final_path);
-  } else {
-    throw std::runtime_error("cannot link " + partial_path + " to " + final_path + ": " +
-                             std::strerror(errno));
-  }
-  const auto directory = std::filesystem::absolute(final_path).parent_path();
-  sync_path(directory.string(), O_RDONLY | O_DIRECTORY);
-}
-
-// Rank 0: proves the disk (and the user's quota, which free-space figures do not show) has room
-// for the whole file before HDF5 writes a byte of it. HDF5 does not recover from a full disk in
-// the middle of a file, so the space is claimed with fallocate and released right before HDF5
-// creates the file. Another program may take it in between: that rare case still fails cleanly
-// (see hdf5_files_left_open).
-void check_room_for(const std::string& path, double bytes) {
-  // O_EXCL: never through a link someone planted under the temporary's name (a shared
-  // directory), never into a file that is not ours.
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
-  const int error = ::posix_fallocate(fd, 0, static_cast<off_t>(bytes));
-  ::close(fd);
-  ::unlink(path.c_str());
-  if (error == ENOSPC || error == EDQUOT)
-    throw std::runtime_error(fmt_bytes(bytes) + " for the output do not fit on its disk: " +
-                             std::strerror(error));
-  // EOPNOTSUPP, EINVAL: a file system that cannot reserve; the earlier free-space check stands.
-}
-
-// ---------------------------------------------------------------------------------------------
-// Types.
-
-hid_t memory_type(ElementType type) {
-  switch (type) {
-    case ElementType::int8: return H5T_NATIVE_INT8;
-    case ElementType::uint8: return H5T_NATIVE_UINT8;
-    case ElementType::int16: return H5T_NATIVE_INT16;
-    case ElementType::int32: return H5T_NATIVE_INT32;
-    case ElementType::float64: break;
-  }
-  return H5T_NATIVE_DOUBLE;
-}
-
-// Fixed little-endian file types, so the file is the same whatever machine wrote it.
-hid_t file_type(ElementType type) {
-  switch (type) {
-    case ElementType::int8: return H5T_STD_I8LE;
-    case ElementType::uint8: return H5T_STD_U8LE;
-    case ElementType::int16: return H5T_STD_I16LE;
-    case ElementType::int32: return H5T_STD_I32LE;
-    case ElementType::float64: break;
-  }
-  return H5T_IEEE_F64LE;
-}
-
-// One value converted to a dataset's element type, as raw bytes for H5Pset_fill_value/H5Awrite.
-struct TypedValue {
-  double d = 0;
-  std::int8_t i8 = 0;
-  std::uint8_t u8 = 0;
-  std::int16_t i16 = 0;
-  std::int32_t i32 = 0;
-  const void* pointer(ElementType type) const {
-    switch (type) {
-      case ElementType::int8: return &i8;
-      case ElementType::uint8: return &u8;
-      case ElementType::int16: return &i16;
-      case ElementType::int32: return &i32;
-      case ElementType::float64: break;
-    }
-    return &d;
-  }
-};
-
-// Integer labels must be exactly representable; a silently wrapped flag value would mislabel data.
-bool representable(double value, ElementType type) {
-  switch (type) {
-    case ElementType::int8: return value == std::trunc(value) && value >= -128 && value <= 127;
-    case ElementType::uint8: return value == std::trunc(value) && value >= 0 && value <= 255;
-    case ElementType::int16:
-      return value == std::trunc(value) && value >= -32768 && value <= 32767;
-    case ElementType::int32:
-      return value == std::trunc(value) && value >= -2147483648.0 && value <= 2147483647.0;
-    case ElementType::float64: break;
-  }
-  return true;
-}
-
-TypedValue typed(double value, ElementType type) {
-  TypedValue v;
-  v.d = value;
-  if (type != ElementType::float64 && !std::isnan(value)) {
-    if (representable(value, ElementType::int8)) v.i8 = static_cast<std::int8_t>(value);
-    if (representable(value, ElementType::uint8)) v.u8 = static_cast<std::uint8_t>(value);
-    if (representable(value, ElementType::int16)) v.i16 = static_cast<std::int16_t>(value);
-    if (representable(value, ElementType::int32)) v.i32 = static_cast<std::int32_t>(value);
-  }
-  return v;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Attributes. Strings are scalar, variable-length UTF-8: h5py (hence h5netcdf and xarray) returns
-// them as Python str whatever their length, whereas fixed-length strings of length one come back
-// as bytes.
-
-void write_attribute(hid_t object, const std::string& name, hid_t file_t, hid_t mem_t, hid_t space,
-                     const void* value, const Checker& check) {
-  const std::string what = "cannot write attribute '" + name + "'";
-  AttributeHandle attribute(
-      check(H5Acreate2(object, name.c_str(), file_t, space, H5P_DEFAULT, H5P_DEFAULT), what));
-  check(H5Awrite(attribute.get(), mem_t, value), what);
-  check.require(attribute.close(), what);
-}
-
-void write_text_attribute(hid_t object, const std::string& name, const std::string& value,
-                          const Checker& check) {
-  const std::string what = "cannot write attribute '" + name + "'";
-  TypeHandle type(check(H5Tcopy(H5T_C_S1), what));
-  check(H5Tset_size(type.get(), H5T_VARIABLE), what);
-  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), what));
-  const char* text = value.c_str();
-  write_attribute(object, name, type.get(), type.get(), space.get(), &text, check);
-}
-
-void write_number_attribute(hid_t object, const std::string& name, double value,
-                            const Checker& check) {
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), "cannot write attribute '" + name + "'"));
-  write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, space.get(), &value, check);
-}
-
-// Scalar of the dataset's own type: CF wants _FillValue to match the variable exactly.
-void write_typed_attribute(hid_t object, const std::string& name, double value, ElementType type,
-                           const Checker& check) {
-  SpaceHandle space(check(H5Screate(H5S_SCALAR), "cannot write attribute '" + name + "'"));
-  const TypedValue v = typed(value, type);
-  write_attribute(object, name, file_type(type), memory_type(type), space.get(), v.pointer(type),
-                  check);
-}
-
-// 1-D array of the dataset's own type (CF: flag_values has the variable's type).
-template <typename T>
-void write_flag_values_as(hid_t object, const std::vector<int>& values, ElementType type,
-                          const Checker& check) {
-  const std::vector<T> converted(values.begin(), values.end());  // validate() checked the range
-  const hsize_t n = converted.size();
-  SpaceHandle space(check(H5Screate_simple(1, &n, nullptr), "cannot write 'flag_values'"));
-  write_attribute(object, "flag_values", file_type(type), memory_type(type), space.get(),
-                  converted.data(), check);
-}
-
-void write_flag_values(hid_t object, const std::vector<int>& values, ElementType type,
-                       const Checker& check) {
-  switch (type) {
-    case ElementType::int8: return write_flag_values_as<std::int8_t>(object, values, type, check);
-    case ElementType::uint8: return write_flag_values_as<std::uint8_t>(object, values, type, check);
-    case ElementType::int16: return write_flag_values_as<std::int16_t>(object, values, type, check);
-    case ElementType::int32: return write_flag_values_as<std::int32_t>(object, values, type, check);
-    case ElementType::float64: break;
-  }
-  write_flag_values_as<double>(object, values, type, check);
-}
-
-void write_descriptive_attributes(hid_t object, const std::string& long_name,
-                                  const std::string& units, const Checker& check) {
-  if (!long_name.empty()) write_text_attribute(object, "long_name", long_name, check);
-  if (!units.empty()) write_text_attribute(object, "units", units, check);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Chunking. Chunks of about 1 MiB: big enough for efficient parallel I/O, and equal to HDF5's
-// default chunk cache so a reader (h5py, xarray) holds a whole chunk. Filling from the last
-// dimension backwards keeps whole trailing rows (whole time series) inside one chunk.
-
-constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
-
-std::vector<hsize_t> chunk_shape(const std::vector<hsize_t>& shape, std::size_t element_bytes) {
-  const hsize_t target = std::max<hsize_t>(1, kChunkBytes / element_bytes);
-  std::vector<hsize_t> chunk(shape.size(), 1);
-  hsize_t elements = 1;
-  for (std::size_t d = shape.size(); d-- > 0;) {
-    if (elements * shape[d] <= target) {
-      chunk[d] = shape[d];
-      elements *= shape[d];
-    } else {
-      chunk[d] = std::max<hsize_t>(1, target / elements);
-      break;  // leading dimensions stay at 1
-    }
-  }
-  return chunk;
-}
-
-std::size_t element_size(ElementType type) {
-  switch (type) {
-    case ElementType::int8:
-    case ElementType::uint8: return 1;
-    case ElementType::int16: return 2;
-    case ElementType::int32: return 4;
-    case ElementType::float64: break;
-  }
-  return 8;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Selections: a flat, row-major run of grid points [begin, end) as a few rectangular hyperslabs.
-
-struct Box {
-  std::vector<hsize_t> start;
-  std::vector<hsize_t> count;
-};
-
-// Appends boxes covering flat range [begin, end) of the sub-grid dims[level..], whose leading
-// indices (dims[0..level)) are fixed by `prefix`. Produces at most 2·(rank−level)−1 boxes: a
-// partial leading row (recursively), one block of whole rows, a partial trailing row
-// (recursively).
-void decompose(std::int64_t begin, std::int64_t end, const std::vector<hsize_t>& dims,
-               std::size_t level, std::vector<hsize_t>& prefix, std::vector<Box>& boxes) {
-  if (begin >= end) return;
-  std::int64_t row = 1;  // points per index of dims[level]: one "row" of the sub-grid
-  for (std::size_t d = level + 1; d < dims.size(); ++d) row *= static_cast<std::int64_t>(dims[d]);
-
-  const auto emit_rows = [&](std::int64_t first, std::int64_t count) {
-    Box box;
-    box.start = prefix;
-    box.count.assign(prefix.size(), 1);
-    box.start.push_back(static_cast<hsize_t>(first));
-    box.count.push_back(static_cast<hsize_t>(count));
-    for (std::size_t d = level + 1; d < dims.size(); ++d) {
-      box.start.push_back(0);
-      box.count.push_back(dims[d]);
-    }
-    boxes.push_back(std::move(box));
-  };
-  const auto recurse_in_row = [&](std::int64_t r, std::int64_t b, std::int64_t e) {
-    prefix.push_back(static_cast<hsize_t>(r));
-    decompose(b, e, dims, level + 1, prefix, boxes);
-    prefix.pop_back();
-  };
-
-  if (row == 1) {  // last grid dimension: the range is already one box
-    emit_rows(begin, end - begin);
-    return;
-  }
-  std::int64_t first_row = begin / row;
-  const bool whole_rows = begin % row == 0 && end % row == 0;
-  if (first_row == (end - 1) / row && !whole_rows) {  // inside a single row
-    recurse_in_row(first_row, begin % row, end - first_row * row);
-    return;
-  }
-  if (begin % row != 0) {
-    recurse_in_row(first_row, begin % row, row);
-    ++first_row;
-  }
-  const std::int64_t full_end = end / row;  // rows [first_row, full_end) are whole
-  if (full_end > first_row) emit_rows(first_row, full_end - first_row);
-  if (end % row != 0) recurse_in_row(full_end, 0, end % row);
-}
-
-// Ranges that touch are merged first: fewer boxes, and a contiguous rank block becomes one box.
-std::vector<PointRange> merged(const std::vector<PointRange>& ranges) {
-  std::vector<PointRange> out;
-  for (const PointRange& r : ranges) {
-    if (r.begin == r.end) continue;
-    if (!out.empty() && out.back().end == r.begin) {
-      out.back().end = r.end;
-    } else {
-      out.push_back(r);
-    }
-  }
-  return out;
-}
-
-// The boxes of sorted runs, in row-major order: the order of the caller's data buffer. With a
-// time dimension, each box holds the whole time series of its points.
-std::vector<Box> boxes_of(const std::vector<PointRange>& runs,
-                          const std::vector<hsize_t>& grid_dims, bool has_time_dim,
-                          hsize_t time_length) {
-  std::vector<Box> boxes;
-  std::vector<hsize_t> prefix;
-  for (const PointRange& r : runs) decompose(r.begin, r.end, grid_dims, 0, prefix, boxes);
-  if (has_time_dim)
-    for (Box& box : boxes) {
-      box.start.push_back(0);
-      box.count.push_back(time_length);
-    }
-  return boxes;
-}
-
-hsize_t elements_of(const Box& box) {
-  return std::accumulate(box.count.begin(), box.count.end(), hsize_t{1}, std::multiplies<>());
-}
-
-// The file selection is visited in row-major order whatever order the boxes are added in;
-// because the runs are sorted, that is exactly the order of the caller's data buffer.
-void select_boxes(hid_t file_space, const std::vector<Box>& boxes, const std::string& path,
-                  const std::string& what) {
-  H5S_seloper_t op = H5S_SELECT_SET;
-  for (const Box& box : boxes) {
-    if (H5Sselect_hyperslab(file_space, op, box.start.data(), nullptr, box.count.data(), nullptr) < 0)
-      fail(path, what, hdf5_error_detail());  // local: the caller agrees on the outcome
-    op = H5S_SELECT_OR;
+void file_system_step(const std::string& path, const std::string& what, Action&& action) {
+  try {
+    action();
+  } catch (const std::exception& e) {
+    fail(path, what, e.what());
   }
 }
 
@@ -529,8 +62,6 @@ struct OutputFile::Impl {
 
   std::string final_path;
   std::string partial_path;
-  MPI_Comm comm = MPI_COMM_NULL;  // our duplicate: our collectives never mix with the caller's
-  int rank = 0;
   std::vector<hsize_t> grid_dims;  // axis lengths, first slowest
   std::int64_t points = 1;         // product of grid_dims (1: a single trajectory)
   hsize_t time_length = 0;
@@ -538,8 +69,7 @@ struct OutputFile::Impl {
   std::vector<DatasetHandle> coordinates;  // axes..., then t
   std::vector<Dataset> datasets;
   std::vector<DatasetHandle> extra_coordinates, tables;
-  PropertyHandle collective_transfer;
-  Checker checker;  // every HDF5 result, agreed across ranks
+  Checker checker;  // every HDF5 result
   bool committed = false;
 
   [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
@@ -567,7 +97,6 @@ struct OutputFile::Impl {
   bool flush();
   bool close_all();
   void abandon() noexcept;
-  ~Impl();
 };
 
 std::string repeated_name(const FileLayout& layout) {
@@ -646,11 +175,7 @@ PropertyHandle OutputFile::Impl::dataset_creation_properties(const std::vector<h
 void OutputFile::Impl::create_file(const FileLayout& layout) {
   const std::string what = "cannot create the file";
   PropertyHandle fapl(checker(H5Pcreate(H5P_FILE_ACCESS), what));
-  if (comm == MPI_COMM_NULL) {
-    checker(H5Pset_fapl_sec2(fapl.get()), what);
-  } else {
-    checker(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), what);
-  }
+  checker(H5Pset_fapl_sec2(fapl.get()), what);
   PropertyHandle fcpl(checker(H5Pcreate(H5P_FILE_CREATE), what));
   checker(H5Pset_obj_track_times(fcpl.get(), false), what);  // root group
   // Creation order lets readers (h5py, h5netcdf, netCDF-C) list variables in layout order.
@@ -666,17 +191,17 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   }
 }
 
-// Writes a whole dataset of `elements` values that every rank holds: rank 0 alone writes them,
-// the others take part with nothing selected. Ranks differ here, so the selection is checked
-// locally and agreed once.
+// Writes a whole dataset of `elements` values; an empty one (a dimension of length 0, such as
+// `attractor` when nothing settled) with nothing selected.
 void OutputFile::Impl::write_whole(hid_t dataset, hsize_t elements, hid_t mem_type,
                                    const void* data, const std::string& name,
                                    const std::string& what) const {
   SpaceHandle file_space(checker(H5Dget_space(dataset), what));
   SpaceHandle mem_space(checker(H5Screate_simple(1, &elements, nullptr), what));
-  const bool selected = (rank == 0 && elements > 0) || (H5Sselect_none(file_space.get()) >= 0 &&
-                                                        H5Sselect_none(mem_space.get()) >= 0);
-  checker.agree(selected ? "" : partial_path + ": " + what + " (" + hdf5_error_detail() + ")");
+  if (elements == 0) {
+    checker(H5Sselect_none(file_space.get()), what);
+    checker(H5Sselect_none(mem_space.get()), what);
+  }
   write_selected(dataset, mem_type, file_space.get(), mem_space.get(), data, name);
 }
 
@@ -733,7 +258,7 @@ void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
 void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
                                       hid_t mem_space, const void* data,
                                       const std::string& name) const {
-  checker(H5Dwrite(dataset, mem_type, mem_space, file_space, collective_transfer.get(), data), "cannot write dataset '" + name + "'");
+  checker(H5Dwrite(dataset, mem_type, mem_space, file_space, H5P_DEFAULT, data), "cannot write dataset '" + name + "'");
 }
 
 const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name) const {
@@ -743,54 +268,41 @@ const OutputFile::Impl::Dataset* OutputFile::Impl::find(const std::string& name)
   return nullptr;
 }
 
-// Closes datasets before the file: the MPI-IO driver refuses to close a file with open objects.
+// Closes datasets before the file: HDF5 keeps a file open past H5Fclose while objects in it are
+// open (its default, weak close degree), and a close that fails must show here.
 bool OutputFile::Impl::close_all() {
   bool ok = true;
   for (Dataset& d : datasets) ok = d.handle.close() && ok;
   for (DatasetHandle& c : coordinates) ok = c.close() && ok;
   for (DatasetHandle& t : tables) ok = t.close() && ok;
   for (DatasetHandle& c : extra_coordinates) ok = c.close() && ok;
-  ok = collective_transfer.close() && ok;
   ok = file.close() && ok;
   return ok;
 }
 
-// Collective: HDF5 writes its cached metadata. Flushing before closing keeps a failure
-// (a full disk) at a point where every rank still has the file open and can try again.
+// HDF5 writes its cached metadata. Flushing before closing keeps a failure (a full disk) at a
+// point where the file is still open and can be flushed again.
 bool OutputFile::Impl::flush() {
-  return !file.valid() || all_ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0, comm);
+  return !file.valid() || H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0;
 }
 
-// Collective, never throws: the path of every failure (constructor, commit, a destructor called
-// while an exception unwinds) ends here, so nothing is left under either name.
+// Never throws: the path of every failure (constructor, commit, a destructor called while an
+// exception unwinds) ends here, so nothing is left under either name.
 void OutputFile::Impl::abandon() noexcept {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (finalized) return;  // nothing collective is possible any more
   if (!flush()) {
     // The disk is full. Free what the file holds and flush again, so that HDF5 can close it
     // now; a file it failed to close stays open inside HDF5 (main.cpp then skips MPI_Finalize,
     // where HDF5 would try again and crash).
-    if (rank == 0) ::truncate(partial_path.c_str(), 0);
-    if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
+    ::truncate(partial_path.c_str(), 0);
     flush();
   }
   close_all();
   hdf5_error_detail();  // clears the error stack
-  if (rank == 0) {
-    std::error_code ignored;
-    std::filesystem::remove(partial_path, ignored);
-  }
-  if (comm != MPI_COMM_NULL) MPI_Barrier(comm);  // no rank returns while the temporary shows
+  std::error_code ignored;
+  std::filesystem::remove(partial_path, ignored);
 }
 
-OutputFile::Impl::~Impl() {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!finalized && comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
-}
-
-// Empty when this rank's request is well formed, else the reason.
+// Empty when the request is well formed, else the reason.
 std::string OutputFile::Impl::request_problem(const std::string& name,
                                               const std::vector<PointRange>& ranges) const {
   if (committed) return final_path + ": write of '" + name + "' after commit";
@@ -807,7 +319,7 @@ std::string OutputFile::Impl::request_problem(const std::string& name,
 }
 
 void OutputFile::Impl::create(const FileLayout& layout) {
-  validate(layout);  // the same layout on every rank, so every rank throws alike
+  validate(layout);
   for (const CoordinateSpec& axis : layout.axes) {
     grid_dims.push_back(axis.values.size());
     points *= static_cast<std::int64_t>(axis.values.size());
@@ -817,16 +329,10 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   // A stale temporary from a killed run may be anything (read-only, even a directory); start
   // from nothing. remove() takes a link itself away, never what it points to, and fails on a
   // name another user owns in a shared (sticky) directory: then the run is refused.
-  on_rank0_agreed(comm, partial_path, "cannot remove the stale temporary file",
-                  [&] { std::filesystem::remove(partial_path); });
-  on_rank0_agreed(comm, partial_path, "not enough room for the output",
-                  [&] { check_room_for(partial_path, expected_bytes(layout)); });
-
-  collective_transfer =
-      PropertyHandle(checker(H5Pcreate(H5P_DATASET_XFER), "cannot set up writes"));
-  if (comm != MPI_COMM_NULL)
-    checker(H5Pset_dxpl_mpio(collective_transfer.get(), H5FD_MPIO_COLLECTIVE),
-            "cannot set up collective writes");
+  file_system_step(partial_path, "cannot remove the stale temporary file",
+                   [&] { std::filesystem::remove(partial_path); });
+  file_system_step(partial_path, "not enough room for the output",
+                   [&] { check_room_for(partial_path, expected_bytes(layout)); });
 
   create_file(layout);
   int dim_id = 0;
@@ -889,43 +395,27 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
 
 void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange>& ranges,
                              const void* data) const {
-  const std::string what = "cannot select the points of '" + target.spec.name + "'";
   const std::vector<PointRange> runs = merged(ranges);
   std::int64_t selected_points = 0;
   for (const PointRange& r : runs) selected_points += r.end - r.begin;
   const hsize_t per_point = target.spec.has_time_dim ? time_length : 1;
   const hsize_t elements = static_cast<hsize_t>(selected_points) * per_point;
 
-  if (comm == MPI_COMM_NULL && !grid_dims.empty() && elements > 0) {
+  if (!grid_dims.empty() && elements > 0) {
     write_box_by_box(target, runs, data);
     return;
   }
-  // Each rank selects its own points, in its own number of calls: checked here, agreed once.
-  SpaceHandle file_space, mem_space;
-  std::string problem;
-  try {
-    auto local = [&](auto result) {
-      if (result < 0) fail(partial_path, what, hdf5_error_detail());
-      return result;
-    };
-    file_space = SpaceHandle(local(H5Dget_space(target.handle.get())));
-    const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
-    mem_space = SpaceHandle(local(H5Screate_simple(1, &mem_dims, nullptr)));
-    if (elements == 0) {
-      // Nothing to write here, but H5Dwrite is collective: take part with empty selections.
-      local(H5Sselect_none(mem_space.get()));
-      local(H5Sselect_none(file_space.get()));
-    } else if (grid_dims.empty()) {
-      local(H5Sselect_all(file_space.get()));  // the single point
-    } else {
-      select_boxes(file_space.get(),
-                   boxes_of(runs, grid_dims, target.spec.has_time_dim, time_length),
-                   partial_path, what);
-    }
-  } catch (const std::exception& e) {
-    problem = e.what();
+  // No grid (a single trajectory: its one point selected whole), or nothing to write.
+  const std::string what = "cannot select the points of '" + target.spec.name + "'";
+  SpaceHandle file_space(checker(H5Dget_space(target.handle.get()), what));
+  const hsize_t mem_dims = std::max<hsize_t>(elements, 1);  // keep the memory space non-empty
+  SpaceHandle mem_space(checker(H5Screate_simple(1, &mem_dims, nullptr), what));
+  if (elements == 0) {
+    checker(H5Sselect_none(mem_space.get()), what);
+    checker(H5Sselect_none(file_space.get()), what);
+  } else {
+    checker(H5Sselect_all(file_space.get()), what);
   }
-  checker.agree(problem);
   write_selected(target.handle.get(), memory_type(target.spec.type), file_space.get(),
                  mem_space.get(), data, target.spec.name);
 }
@@ -954,17 +444,13 @@ void OutputFile::Impl::write_box_by_box(const Dataset& target,
 
 // ---------------------------------------------------------------------------------------------
 
-OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, MPI_Comm comm)
+OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout)
     : impl_(std::make_unique<Impl>()) {
   impl_->final_path = final_path;
   impl_->partial_path = final_path + ".partial";
   // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (comm != MPI_COMM_NULL) {
-    MPI_Comm_dup(comm, &impl_->comm);
-    MPI_Comm_rank(impl_->comm, &impl_->rank);
-  }
-  impl_->checker = Checker(impl_->comm, impl_->partial_path);
+  impl_->checker = Checker(impl_->partial_path);
   try {
     impl_->create(layout);
   } catch (...) {
@@ -979,13 +465,8 @@ OutputFile::~OutputFile() {
 
 void OutputFile::write(const std::string& dataset, const std::vector<PointRange>& ranges,
                        const void* data) {
-  // A bad request on one rank must not leave the others waiting inside H5Dwrite.
   const std::string problem = impl_->request_problem(dataset, ranges);
-  if (!all_ok(problem.empty(), impl_->comm)) {
-    throw std::runtime_error(problem.empty() ? impl_->partial_path + ": write of '" + dataset +
-                                                   "' refused on another rank"
-                                             : problem);
-  }
+  if (!problem.empty()) throw std::runtime_error(problem);
   impl_->write(*impl_->find(dataset), ranges, data);
 }
 
@@ -994,9 +475,8 @@ void OutputFile::commit(bool replace_existing) {
   if (s.committed) fail(s.final_path, "commit called twice");
   s.checker.require(s.flush(), "cannot write the file's metadata");
   s.checker.require(s.close_all(), "cannot close the file");
-  // H5Fclose is collective, so every rank's data is in the file before the name appears.
-  on_rank0_agreed(s.comm, s.final_path, "cannot put the finished file in place",
-                  [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
+  file_system_step(s.final_path, "cannot put the finished file in place",
+                   [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
   s.committed = true;
 }
 

@@ -1,16 +1,13 @@
-// The HDF5 result file, written collectively by all MPI ranks (parallel HDF5, Open MPI build).
+// The HDF5 result file, written by one process (rank 0: parallel/output_assembly.hpp says why)
+// through HDF5's serial driver.
 //
 // Layout (INTERFACE.md): one 1-D coordinate dataset per grid axis, attached as a dimension scale;
 // an optional time coordinate `t`; measure datasets with dims (axes..., [t]); CF-style attributes.
 // The file is readable as netCDF-4 by xarray (engine="h5netcdf").
 //
 // Crash safety: the file is built under a temporary name next to the final one and put in place
-// by commit(); a run that fails or is killed never leaves a file under the final name. Every
-// failure, also one that HDF5 reports on some ranks only (a full disk), is thrown on every rank
-// at the same call, so no rank is left waiting in a collective one.
+// by commit(); a run that fails or is killed never leaves a file under the final name.
 #pragma once
-
-#include <mpi.h>
 
 #include <cstdint>
 #include <map>
@@ -77,22 +74,19 @@ struct PointRange {
 
 class OutputFile {
  public:
-  // Collective. Creates `final_path + ".partial"` (replacing a stale one) with every dataset.
-  // Throws std::runtime_error naming the path on failure. With `comm` = MPI_COMM_NULL the file
-  // is written by this process alone through HDF5's serial (sec2) driver, without any MPI
-  // call: how contactsweep writes its results (parallel/output_assembly.hpp says why).
-  OutputFile(const std::string& final_path, const FileLayout& layout, MPI_Comm comm);
+  // Creates `final_path + ".partial"` (replacing a stale one) with every dataset. Throws
+  // std::runtime_error naming the path on failure. No MPI call.
+  OutputFile(const std::string& final_path, const FileLayout& layout);
   ~OutputFile();  // closes and removes the temporary file unless commit() ran
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
 
-  // Collective: every rank calls it for every dataset, possibly with no ranges.
-  // `ranges` are this rank's point ranges, sorted and disjoint; `data` holds their values
+  // `ranges` are point ranges, sorted and disjoint, possibly none; `data` holds their values
   // back to back in that order (times the length of `t` for time datasets), in the dataset's
   // element type.
   void write(const std::string& dataset, const std::vector<PointRange>& ranges, const void* data);
 
-  // Collective: flush, close, sync the file, put it under the final path and sync the directory.
+  // Flush, close, sync the file, put it under the final path and sync the directory.
   // Without `replace_existing`, a file already at the final path is never replaced: the commit
   // fails instead (the caller's journal keeps the results).
   void commit(bool replace_existing = false);

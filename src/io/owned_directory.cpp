@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 namespace {

@@ -29,7 +29,8 @@
 #include <string_view>
 #include <vector>
 
-#include "io/run_spec.hpp"
+#include "io/linspace.hpp"  // for callers of linspace, which the spec files use
+#include "model/run_spec.hpp"
 
 namespace cs {
 
@@ -43,9 +44,5 @@ std::string read_spec_file(const std::string& path);
 
 // Reads the file at `path` and parses it; an unreadable file is an InputError naming the path.
 RunSpec load_run_spec(const std::string& path, const std::vector<std::string>& overrides);
-
-// numpy.linspace(from, to, n) (endpoint=True), bit for bit; empty for n <= 0.
-// Relies on the project-wide -ffp-contract=off: a fused i * step + from would differ.
-std::vector<double> linspace(double from, double to, std::int64_t n);
 
 }  // namespace cs

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "parallel/comm.hpp"
+#include "mpi/comm.hpp"
 #include "physics/energy_wells.hpp"
 
 namespace cs {

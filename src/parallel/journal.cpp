@@ -14,7 +14,7 @@
 
 #include "io/log.hpp"
 #include "io/owned_directory.hpp"
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 namespace {

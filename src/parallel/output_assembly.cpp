@@ -11,8 +11,8 @@
 
 #include "formula/custom_scene.hpp"
 #include "io/output_file.hpp"
-#include "parallel/agreement.hpp"
-#include "parallel/comm.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
 #include "version.hpp"
 
 namespace cs {
@@ -190,8 +190,7 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     }
   };
   if (rank == 0)
-    attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads),
-                               MPI_COMM_NULL); });
+    attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads)); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec dataset = written_dataset(plan, options, k);
     if (plan.columns[k].internal) continue;

@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "io/output_inspect.hpp"
-#include "parallel/agreement.hpp"
-#include "parallel/comm.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
 #include "parallel/run_identity.hpp"
 
 namespace cs {

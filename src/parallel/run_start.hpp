@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/sweep.hpp"
 

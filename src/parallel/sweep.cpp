@@ -19,20 +19,20 @@
 
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
-#include "kernel_build/kernel_cache.hpp"
-#include "kernel_build/kernel_source.hpp"
 #include "io/log.hpp"
 #include "io/memory_budget.hpp"
-#include "parallel/agreement.hpp"
+#include "kernel_build/kernel_cache.hpp"
+#include "kernel_build/kernel_source.hpp"
+#include "mpi/agreement.hpp"
+#include "mpi/comm.hpp"
+#include "mpi/failure_watch.hpp"
 #include "parallel/basin_summary.hpp"
-#include "parallel/comm.hpp"
-#include "parallel/failure_watch.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/journal_writer.hpp"
 #include "parallel/output_assembly.hpp"
 #include "parallel/progress.hpp"
-#include "parallel/run_start.hpp"
 #include "parallel/run_identity.hpp"
+#include "parallel/run_start.hpp"
 
 namespace cs {
 namespace {

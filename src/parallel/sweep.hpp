@@ -2,14 +2,14 @@
 // round-robin and to OpenMP threads dynamically, journals each finished block, and has rank 0
 // write every rank's blocks into one HDF5 file. Blocks hold whole lanes, and a lane's result
 // depends on nothing but its own point, so the file has the same bits for any number of ranks
-// and threads. `comm` may be MPI_COMM_NULL: one process without MPI (parallel/comm.hpp).
+// and threads. `comm` may be MPI_COMM_NULL: one process without MPI (mpi/comm.hpp).
 #pragma once
 
 #include <mpi.h>
 
 #include <string>
 
-#include "io/run_spec.hpp"
+#include "model/run_spec.hpp"
 
 namespace cs {
 

@@ -23,7 +23,7 @@ class CollectiveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Collective (MPI_COMM_NULL: a process without MPI, parallel/comm.hpp). If `local_failure` is set on any rank, every rank throws the error of the lowest
+// Collective (MPI_COMM_NULL: a process without MPI, mpi/comm.hpp). If `local_failure` is set on any rank, every rank throws the error of the lowest
 // failing rank: an InputError as an InputError (exit 2), anything else as a CollectiveError.
 // A message from a rank other than 0 is prefixed with that rank and its host, since only rank 0
 // prints.

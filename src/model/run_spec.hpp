@@ -1,10 +1,11 @@
 // A validated run: what a spec file (after --set overrides) asks for, with every default filled in
 // from the scene catalog. Everything downstream (engine, HDF5 writer) trusts it; all checking of
-// user input happens while building it (spec_parser.cpp).
+// user input happens while building it (io/spec_parser.cpp).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -90,7 +91,12 @@ struct RunSpec {
   Measures measures;
   std::string spec_text;                     // the TOML after --set, as stored in the output
 
-  std::int64_t grid_points() const;          // product of axis lengths (1 without axes)
+  // The product of the axis lengths (1 without axes).
+  std::int64_t grid_points() const {
+    std::int64_t points = 1;
+    for (const GridAxis& axis : axes) points *= std::ssize(axis.values);
+    return points;
+  }
 };
 
 }  // namespace cs

@@ -1,4 +1,4 @@
-#include "parallel/failure_watch.hpp"
+#include "mpi/failure_watch.hpp"
 
 namespace cs {
 

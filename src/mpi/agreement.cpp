@@ -1,4 +1,4 @@
-#include "parallel/agreement.hpp"
+#include "mpi/agreement.hpp"
 
 #include <unistd.h>
 
@@ -6,8 +6,8 @@
 #include <climits>
 #include <cstdint>
 
-#include "io/run_spec.hpp"
-#include "parallel/comm.hpp"
+#include "model/run_spec.hpp"
+#include "mpi/comm.hpp"
 
 namespace cs {
 namespace {
