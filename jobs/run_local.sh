@@ -21,7 +21,7 @@ mpirun=(mpirun -np 2 --bind-to core)
 
 bash .ci/install-deps.sh
 [[ -f build/CMakeCache.txt ]] || cmake --preset release
-cmake --build --preset release
+cmake --build --preset release --target contactsweep   # the program only: tests build with .ci/test
 
 mkdir -p out/figures
 run() {  # run NAME: sweeps/NAME.toml -> out/NAME.h5
