@@ -13,6 +13,7 @@
 #include <set>
 #include <vector>
 
+#include "engine/recurrence/attractor_cells.hpp"
 #include "engine/recurrence/cell_grid.hpp"
 #include "engine/recurrence/cell_set.hpp"
 #include "engine/recurrence/recurrence_tracker.hpp"
@@ -302,6 +303,61 @@ TEST(RecurrenceTracker, ExcursionsOutsideTheBoxDoNotResetTheCount) {
   // k = 46; ten more samples locate, the outside ones counted but adding no cell.
   EXPECT_EQ(tracker.settle_sample(), 1);
   EXPECT_EQ(tracker.samples(), 1 + 45 + 10);
+}
+
+TEST(CellSet, SketchIsTheKeysOfSmallestHash) {
+  CellSet set(100);
+  std::vector<std::uint64_t> keys;
+  for (std::uint64_t k = 0; k < 50; ++k)
+    set.visit(1000 + 37 * k, true), keys.push_back(1000 + 37 * k);
+  std::sort(keys.begin(), keys.end(),
+            [](std::uint64_t a, std::uint64_t b) { return cell_hash(a) < cell_hash(b); });
+  std::vector<std::uint64_t> expected(keys.begin(), keys.begin() + 8);
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(set.sketch(8), expected);
+  EXPECT_EQ(set.sketch(100).size(), 50u);  // all of a small set
+}
+
+// Cells of 10 × 10, the second variable an angle (wraps).
+AttractorCells ten_by_ten() { return AttractorCells({10, 10}, {false, true}); }
+std::uint64_t cell(int i, int j) { return static_cast<std::uint64_t>(i + 10 * j); }
+
+TEST(AttractorCells, TouchingSetsAreOneAttractorOthersStayApart) {
+  AttractorCells cells = ten_by_ten();
+  cells.add({cell(2, 2), cell(3, 2)});
+  cells.add({cell(4, 3)});              // touches (3, 2) at a corner
+  cells.add({cell(6, 2)});              // two cells from (4, 3): apart
+  cells.add({cell(0, 9)});              // the angle wraps: touches (0, 0) and (1, 0)…
+  cells.add({cell(1, 0), cell(9, 5)});  // …so these join it, and (9, 5) with them
+  cells.add({cell(9, 0)});  // the first variable does not wrap: (9, 0) is far from (0, 9)
+  const auto components = cells.components();
+  ASSERT_EQ(components.size(), 4u);
+  EXPECT_EQ(components[0], (std::vector<std::uint64_t>{cell(1, 0), cell(9, 5), cell(0, 9)}));
+  EXPECT_EQ(components[1], (std::vector<std::uint64_t>{cell(9, 0)}));
+  EXPECT_EQ(components[2], (std::vector<std::uint64_t>{cell(2, 2), cell(3, 2), cell(4, 3)}));
+  EXPECT_EQ(components[3], (std::vector<std::uint64_t>{cell(6, 2)}));
+  EXPECT_EQ(cells.component_of(cell(4, 3)), 2);
+  EXPECT_EQ(cells.component_of(cell(5, 5)), -1);
+}
+
+// A set that bridges two attractors merges them, whatever the order the sets came in: the
+// table is the same for any cut of the grid into blocks.
+TEST(AttractorCells, ComponentsDoNotDependOnTheOrderOfTheSets) {
+  std::vector<std::vector<std::uint64_t>> sets = {
+      {cell(1, 1)}, {cell(5, 5), cell(5, 6)}, {cell(2, 2), cell(3, 3)}, {cell(8, 8)}, {cell(4, 4)}};
+  std::vector<int> order = {0, 1, 2, 3, 4};
+  std::vector<std::vector<std::uint64_t>> first;
+  do {
+    AttractorCells cells = ten_by_ten();
+    for (int i : order) cells.add(sets[static_cast<std::size_t>(i)]);
+    const auto components = cells.components();
+    if (first.empty()) first = components;
+    EXPECT_EQ(components, first);
+  } while (std::next_permutation(order.begin(), order.end()));
+  // (1,1)-(2,2)-(3,3)-(4,4)-(5,5): one chain; (8,8) apart.
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[0].size(), 6u);
+  EXPECT_EQ(first[1], (std::vector<std::uint64_t>{cell(8, 8)}));
 }
 
 }  // namespace

@@ -12,6 +12,16 @@
 
 namespace cs {
 
+// splitmix64's finaliser: neighbouring cells (keys differing in low bits or by a stride) land
+// far apart in the table, and a set's keys of smallest hash are a fair sample of it (sketch()).
+inline std::uint64_t cell_hash(std::uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
 class CellSet {
  public:
   enum class Visit : std::uint8_t { seen, added, full };
@@ -68,25 +78,30 @@ class CellSet {
     return best;
   }
 
+  // At most k located keys, those of smallest cell_hash, in increasing order of key: a bottom-k
+  // sketch. Two lanes that located the same cells have the same sketch; two that located large
+  // parts of one chaotic attractor share keys with a probability that grows with the overlap.
+  std::vector<std::uint64_t> sketch(std::size_t k) const {
+    std::vector<std::uint64_t> keys = located_keys();
+    if (keys.size() > k) {
+      std::nth_element(
+          keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(k), keys.end(),
+          [](std::uint64_t a, std::uint64_t b) { return cell_hash(a) < cell_hash(b); });
+      keys.resize(k);
+      std::sort(keys.begin(), keys.end());
+    }
+    return keys;
+  }
+
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 
  private:
   static constexpr std::uint64_t kLocated = std::uint64_t{1} << 63;
 
-  // splitmix64's finaliser: neighbouring cells (keys differing in low bits or by a stride)
-  // land far apart in the table.
-  static std::uint64_t mix(std::uint64_t x) {
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ULL;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  }
-
   // The slot holding key, or the empty slot where it would go (the table is never full).
   std::uint64_t& find(std::uint64_t key) {
     const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = mix(key) & mask;; i = (i + 1) & mask)
+    for (std::size_t i = cell_hash(key) & mask;; i = (i + 1) & mask)
       if (slots_[i] == kEmpty || (slots_[i] & ~kLocated) == key) return slots_[i];
   }
 

@@ -98,6 +98,7 @@ class RecurrenceTracker {
   std::size_t located_cells() const { return cells_.located(); }
   std::uint64_t representative() const { return cells_.smallest_located(); }
   std::vector<std::uint64_t> located_keys() const { return cells_.located_keys(); }
+  std::vector<std::uint64_t> sketch(std::size_t k) const { return cells_.sketch(k); }
 
  private:
   Recurrence locate(std::uint64_t key, const RecurrenceOptions& o) {
