@@ -66,6 +66,7 @@ struct Wells {
   bool boundary_limited = false;  // the level is V's least value on the box's boundary
   double trap_energy = -std::numeric_limits<double>::infinity();  // E < this: trapped (margin in)
   std::vector<std::array<double, D>> minima;
+  std::vector<std::array<double, D>> unstable;  // the other critical points: saddles, maxima
   double curvature = 1.0;  // the largest |eigenvalue| of V's Hessian at a critical point
 };
 
@@ -111,6 +112,7 @@ class WellFinder {
       wells.trap_energy = level - margin;
       std::sort(minima.begin(), minima.end());
       wells.minima = minima;
+      wells.unstable = others;
       wells.curvature = std::max(curvature, 1e-12);
     }
     return wells;

@@ -26,6 +26,7 @@ class AnchorTest {
     for (int k = 0; k < N && active; ++k) {
       angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
       angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
+      has_angles_ = has_angles_ || angle_period_[k] > 0.0;
     }
   }
 
@@ -60,16 +61,28 @@ class AnchorTest {
     if (slot < W) dwell_needed_[slot] = std::numeric_limits<double>::infinity();
   }
 
-  // Branch-free over the tile, like the runner's screen.
+  // Branch-free over the tile, like the runner's screen; angles folded only where there are.
   template <class Tile>
   void screen(const Tile& t, LookInt* attention) {
+    if (has_angles_) screen_lanes<true>(t, attention);
+    else screen_lanes<false>(t, attention);
+  }
+
+  template <class Params>
+  bool refuses(const Settlement<N>&, const Params&) const { return false; }
+  void move(int, int) {}  // the finisher's last look is at t_end: no run to continue
+  std::int64_t next_look(std::int64_t) const { return std::numeric_limits<std::int64_t>::max(); }
+
+ private:
+  template <bool kAngles, class Tile>
+  void screen_lanes(const Tile& t, LookInt* attention) {
     const double tolerance = plan_.attractors.tolerance;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
       LookInt near = 1;
       for (int d = 0; d < D; ++d) {
-        near &= std::fabs(folded(t.q[d][i] - anchor_[d][i], d)) <= tolerance;
-        near &= std::fabs(folded(t.p[d][i] - anchor_[D + d][i], D + d)) <= tolerance;
+        near &= std::fabs(folded<kAngles>(t.q[d][i] - anchor_[d][i], d)) <= tolerance;
+        near &= std::fabs(folded<kAngles>(t.p[d][i] - anchor_[D + d][i], D + d)) <= tolerance;
       }
       near_[i] = near ? near_[i] + 1.0 : 0.0;
       for (int d = 0; d < D; ++d) {
@@ -80,20 +93,19 @@ class AnchorTest {
     }
   }
 
-  void move(int, int) {}  // the finisher's last look is at t_end: no run to continue
-  std::int64_t next_look(std::int64_t) const { return std::numeric_limits<std::int64_t>::max(); }
-
- private:
   // A difference of variable k folded into [−period/2, period/2] if k is an angle (as
   // phase_difference, without a branch: the frequency of a non-angle is 0).
+  template <bool kAngles>
   double folded(double difference, int k) const {
-    return difference - angle_period_[k] * std::nearbyint(difference * angle_frequency_[k]);
+    if constexpr (!kAngles) return difference;  // 0·nearbyint(0): the same bits, for nothing
+    else return difference - angle_period_[k] * std::nearbyint(difference * angle_frequency_[k]);
   }
 
   const RunPlan& plan_;
   bool active_;
   LaneClock clock_;
   double angle_period_[N] = {}, angle_frequency_[N] = {};
+  bool has_angles_ = false;
   alignas(64) double anchor_[N][W];     // where each lane's current run near a point began
   alignas(64) double near_[W];          // looks since then, all within the tolerance
   alignas(64) double dwell_needed_[W];  // looks that settle a lane (∞: not searching)

@@ -18,7 +18,11 @@
 //        vectorised over the main tile after each chunk: ORs into attention[i] the lanes it must
 //        look at. Its per-lane state is kept here, structure of arrays, one entry per main slot,
 //        so that the loop vectorises like the step (branch-free, no lane reads another);
-//   void disarm(int slot)                 the lane settled (by any mapper): stop screening it;
+//   void disarm(int slot)                 the lane settled (by any mapper), or its settlement was
+//                                         refused: stop screening it;
+//   bool refuses(const Settlement& s, const Params& c) const
+//        whether a point another mapper settled on is known to be no attractor (the energy
+//        trap knows V's saddles); the settlement is then undone;
 //   void move(int from, int to)           a lane moves from main slot `from` to finisher slot
 //                                         `to` (W + j): per-lane state that a look needs;
 //   std::int64_t next_look(std::int64_t n) const

@@ -6,12 +6,14 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <deque>
 #include <limits>
 #include <mutex>
 
+#include "engine/attractor_search.hpp"
 #include "engine/mappers/basin_mapper.hpp"
 #include "physics/energy_wells.hpp"
 #include "physics/partials.hpp"
@@ -26,10 +28,17 @@ class EnergyTrap {
 
  public:
   EnergyTrap(const RunPlan& plan, bool active, LaneClock clock, const Params& uniform)
-      : active_(active && has_energy_trap<S>()), clock_(clock), uniform_params_(uniform) {
+      : active_(active && has_energy_trap<S>()),
+        clock_(clock),
+        tolerance_(plan.attractors.tolerance),
+        uniform_params_(uniform) {
     if (!active_) return;
+    for (int d = 0; d < D; ++d) angle_period_[d] = plan.attractors.angle_period[static_cast<std::size_t>(d)];
     grid_box_ = basin_box(plan);
-    if constexpr (Uniform) uniform_wells_ = &wells_for(uniform);
+    if constexpr (Uniform) {
+      uniform_wells_ = &wells_for(uniform);
+      uniform_box_ = uniform_wells_->box;
+    }
   }
 
   bool active() const { return active_; }
@@ -80,7 +89,7 @@ class EnergyTrap {
         LookInt inside = 1;
         for (int d = 0; d < D; ++d) {
           q[d] = t.q[d][i], p[d] = t.p[d][i];
-          if constexpr (Uniform) inside &= (q[d] >= uniform_wells_->box.lo[d]) & (q[d] <= uniform_wells_->box.hi[d]);
+          if constexpr (Uniform) inside &= (q[d] >= uniform_box_.lo[d]) & (q[d] <= uniform_box_.hi[d]);
           else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
         }
         double energy;
@@ -89,6 +98,24 @@ class EnergyTrap {
         attention[i] |= inside & (energy < well_energy_[i]);
       }
     }
+  }
+
+  // Another mapper's fixed point on a saddle or maximum of V, where the trap serves the lane, is
+  // no attractor: a lane that starts exactly on an unstable equilibrium stays there, undecided
+  // (as the double well's saddle (0, 0) always was).
+  bool refuses(const Settlement<N>& s, const Params& c) const {
+    if (!has_energy_trap<S>() || s.period != 1) return false;
+    const Wells<D>& wells = wells_of(c);
+    if (wells.verdict != TrapVerdict::used) return false;
+    for (int d = 0; d < D; ++d)
+      if (!(std::fabs(s.point[D + d]) <= tolerance_)) return false;
+    for (const auto& u : wells.unstable) {
+      bool near = true;
+      for (int d = 0; d < D; ++d)
+        near = near && std::fabs(phase_difference(s.point[d], u[d], angle_period_[d])) <= tolerance_;
+      if (near) return true;
+    }
+    return false;
   }
 
   void move(int, int) {}
@@ -145,9 +172,12 @@ class EnergyTrap {
 
   bool active_;
   LaneClock clock_;
+  double tolerance_;  // the anchor test's (refuses)
+  double angle_period_[D] = {};
   Params uniform_params_;
   BasinBox<D> grid_box_{};                // the map's positions, widened (basin_box)
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
+  BasinBox<D> uniform_box_{};                // … and their box, read by the screen
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
   alignas(64) double box_lo_[Uniform ? 1 : D][W];  // the lane's wells' box (not Uniform)
   alignas(64) double box_hi_[Uniform ? 1 : D][W];

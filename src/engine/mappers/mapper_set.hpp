@@ -31,11 +31,18 @@ class MapperSet {
     each([&](auto& m) { m.clear(slot); });
   }
 
-  // A healthy lane at step n: each mapper in turn, until one settles it.
+  // A healthy lane at step n: each mapper in turn, until one settles it. A settlement another
+  // mapper refuses (it knows the point is no attractor) is undone, and the mapper that made it
+  // stops looking at the lane.
   template <class Lane>
   void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
     each([&](auto& m) {
-      if (!s.settled) m.look(slot, n, x, c, s);
+      if (s.settled) return;
+      m.look(slot, n, x, c, s);
+      if (s.settled && refused(s, c)) {
+        s = Settlement<N>{};
+        m.disarm(slot);
+      }
     });
   }
 
@@ -70,6 +77,12 @@ class MapperSet {
   static bool mapping(const RunPlan& plan) { return plan.map.basin >= 0; }
   static bool autonomous(const RunPlan& plan) {
     return mapping(plan) && !plan.spec.measures.basin->period.has_value();
+  }
+
+  bool refused(const Settlement<N>& s, const Params& c) const {
+    bool refused = false;
+    each([&](const auto& m) { refused = refused || m.refuses(s, c); });
+    return refused;
   }
 
   // The active mappers, in order.

@@ -52,6 +52,8 @@ class StroboscopicCycles {
   template <class Tile>
   void screen(const Tile&, LookInt*) {}
 
+  template <class Params>
+  bool refuses(const Settlement<N>&, const Params&) const { return false; }
   void move(int from, int to) { trackers_[to] = trackers_[from]; }
 
   std::int64_t next_look(std::int64_t n) const {
