@@ -34,6 +34,7 @@ class AnchorTest {
 
   void clear(int slot) {
     if (slot >= W) return;
+    disarm(slot);
     near_[slot] = 0.0;
     dwell_needed_[slot] = std::numeric_limits<double>::infinity();
     for (int k = 0; k < N; ++k) anchor_[k][slot] = 0.0;
@@ -51,19 +52,30 @@ class AnchorTest {
     s.settle_time = clock_.at(n - static_cast<std::int64_t>(near_[slot]) * plan_.chunk);
   }
 
+  // A run starts afresh at x.
   template <class Lane, class Params>
   void arm(int slot, const Lane& x, const Params&, const Settlement<N>&) {
+    if (slot >= W) return;
     for (int d = 0; d < D; ++d) anchor_[d][slot] = x.q[d], anchor_[D + d][slot] = x.p[d];
+    near_[slot] = 0.0;
     dwell_needed_[slot] = plan_.attractors.dwell_samples;
+    armed_count_ += !armed_[slot];
+    armed_[slot] = true;
   }
 
+  bool armed(int slot) const { return slot < W && armed_[slot]; }
+
   void disarm(int slot) {
-    if (slot < W) dwell_needed_[slot] = std::numeric_limits<double>::infinity();
+    if (slot >= W) return;
+    dwell_needed_[slot] = std::numeric_limits<double>::infinity();
+    armed_count_ -= armed_[slot];
+    armed_[slot] = false;
   }
 
   // Branch-free over the tile, like the runner's screen; angles folded only where there are.
   template <class Tile>
   void screen(const Tile& t, LookInt* attention) {
+    if (armed_count_ == 0) return;  // e.g. every lane the energy trap's alone
     if (has_angles_) screen_lanes<true>(t, attention);
     else screen_lanes<false>(t, attention);
   }
@@ -109,6 +121,8 @@ class AnchorTest {
   alignas(64) double anchor_[N][W];     // where each lane's current run near a point began
   alignas(64) double near_[W];          // looks since then, all within the tolerance
   alignas(64) double dwell_needed_[W];  // looks that settle a lane (∞: not searching)
+  bool armed_[W] = {};                  // searching (dwell_needed_ finite)
+  int armed_count_ = 0;
 };
 
 }  // namespace cs

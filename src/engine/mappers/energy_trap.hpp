@@ -12,6 +12,7 @@
 #include <deque>
 #include <limits>
 #include <mutex>
+#include <utility>
 
 #include "engine/attractor_search.hpp"
 #include "engine/mappers/basin_mapper.hpp"
@@ -52,20 +53,41 @@ class EnergyTrap {
 
   // Settles a lane whose energy has fallen below its trap level, at its well's minimum.
   template <class Lane>
-  void look(int, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
+  void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
     if constexpr (has_energy_trap<S>()) {
       const Wells<D>& wells = wells_of(c);
       for (int d = 0; d < D; ++d)
         if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
       const auto bottom = WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells);
-      if (!bottom) return;
+      if (!bottom) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
+        lost_ = true;
+        disarm(slot);
+        return;
+      }
       s.settled = true;
       s.period = 1;
       for (int d = 0; d < D; ++d) s.point[d] = (*bottom)[d], s.point[D + d] = 0.0;
       s.settle_time = clock_.at(n);
     }
   }
+
+  // Whether the trap alone decides a lane that starts at x: served, every well it knows traps
+  // (its minimum below the level), and E too low ever to reach the box's boundary. E never
+  // rises, so the lane ends trapped, or on a saddle or maximum (refuses) where it stays
+  // undecided, or in a well missed at set-up (handed over: take_lost).
+  template <class Lane>
+  bool decides_alone(const Lane& x, const Params& c) const {
+    if constexpr (!has_energy_trap<S>()) return false;
+    else {
+      const Wells<D>& wells = wells_of(c);
+      return wells.usable && wells.highest_minimum < wells.trap_energy &&
+             K<S>(x.q, x.p, 0.0, c, 0.0) < wells.confinement;
+    }
+  }
+
+  // Whether the last look found the lane below the level in a well it does not know; clears.
+  bool take_lost() { return std::exchange(lost_, false); }
 
   template <class Lane>
   void arm(int slot, const Lane&, const Params& c, const Settlement<N>&) {
@@ -171,6 +193,7 @@ class EnergyTrap {
   }
 
   bool active_;
+  bool lost_ = false;  // see take_lost
   LaneClock clock_;
   double tolerance_;  // the anchor test's (refuses)
   double angle_period_[D] = {};

@@ -44,12 +44,21 @@ class MapperSet {
         m.disarm(slot);
       }
     });
+    // A lane in a well the trap missed: the anchor test finds where it settles, from here.
+    if (trap_.active() && trap_.take_lost() && anchors_.active() && !anchors_.armed(slot))
+      anchors_.arm(slot, x, c, s);
   }
 
-  // After the look at load; a lane settled at once is never screened.
+  // After the look at load; a lane settled at once is never screened. The anchor test is not
+  // armed for a lane the energy trap alone decides (EnergyTrap::decides_alone): its screen then
+  // costs nothing where every lane is the trap's (the double well's map).
   template <class Lane>
   void arm(int slot, const Lane& x, const Params& c, const Settlement<N>& s) {
-    if (!s.settled) each([&](auto& m) { m.arm(slot, x, c, s); });
+    if (s.settled) return;
+    if (anchors_.active() && !(trap_.active() && trap_.decides_alone(x, c)))
+      anchors_.arm(slot, x, c, s);
+    if (trap_.active()) trap_.arm(slot, x, c, s);
+    if (strobe_.active()) strobe_.arm(slot, x, c, s);
   }
 
   void disarm(int slot) {
