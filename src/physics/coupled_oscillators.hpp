@@ -3,6 +3,8 @@
 // parameters (omega1_sq, omega2_sq). For g < 0 the potential is unbounded below and lanes escape.
 #pragma once
 
+#include <cmath>
+
 #include "physics/scene_bounds.hpp"
 #include "physics/scene_concept.hpp"
 
@@ -26,6 +28,11 @@ struct CoupledOscillators {
     auto q1q1 = square(q<0>(x)), q2q2 = square(q<1>(x));
     return half_square(p<0>(x)) + half_square(p<1>(x)) + 0.5 * (c.omega1_sq * q1q1) +
            0.5 * (c.omega2_sq * q2q2) + c.g * (q1q1 * q2q2) - c.gamma * z(x);
+  }
+
+  // The oscillators' own frequencies ω_i = √(ω_i²): the sync measure's default.
+  static void natural_frequencies(const Params<double>& c, double* omega) {
+    omega[0] = std::sqrt(c.omega1_sq), omega[1] = std::sqrt(c.omega2_sq);
   }
 
   static bool diverged(const double* q, const double* p) { return beyond_bound<dof>(q, p); }

@@ -26,7 +26,7 @@ std::vector<SceneInfo> build_catalog() {
       {"double_well", "C", "K = p^2/2 + (q^2 - a^2)^2/2 - gamma z", 1,
        {{"a", 1.0, "well position (minima at q = +-a)"}, {"gamma", 0.1, "damping rate"}},
        one_dof_variables(2.0), {"final_state", "trajectory", "basin"}, split_linear, false,
-       0.01, 100.0},
+       0.01, 100.0, {LabelRule::Kind::sign_of_q1, "left_well", "right_well"}},
       {"coupled_oscillators", "D",
        "K = (p1^2 + omega1_sq q1^2)/2 + (p2^2 + omega2_sq q2^2)/2 + g q1^2 q2^2 - gamma z", 2,
        {{"omega1_sq", 1.2, "squared angular frequency of oscillator 1"},

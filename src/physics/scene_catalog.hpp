@@ -22,6 +22,16 @@ struct VariableInfo {
   std::string description;
 };
 
+// How the attractor table labels a scene's attractors (engine/label_rule.hpp). `numbered`: 1..n
+// in the table's order (period, then point), for any scene. `sign_of_q1`: −1 and +1 by the sign
+// of the attractor's first position, for a scene known to have one attractor on either side of
+// q1 = 0; `negative` and `positive` name them in the file's flag_meanings.
+struct LabelRule {
+  enum class Kind { numbered, sign_of_q1 };
+  Kind kind = Kind::numbered;
+  std::string negative, positive;
+};
+
 struct SceneInfo {
   std::string name;          // spec name: damped_oscillator, ...
   std::string paper_label;   // "A".."D"
@@ -34,6 +44,7 @@ struct SceneInfo {
   bool z_feeds_back;         // does z enter the (q, p) dynamics?
   double default_h;
   double default_t_end;
+  LabelRule label_rule{};    // how its basins are labelled
 };
 
 const std::vector<SceneInfo>& scene_catalog();
