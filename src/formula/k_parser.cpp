@@ -631,8 +631,12 @@ class Parser {
 
   // The dof is the highest index written; unwritten q_i, p_i below it are made now.
   void finish_variables() {
-    if (q_.empty() && p_.empty())
+    if (q_.empty() && p_.empty() && !out_.state_free)
       fail("has no position or momentum: K must contain q or p (or q1..qN, p1..pN)");
+    if (out_.state_free) {
+      if (!q_.empty() || !p_.empty()) fail("must not read a position or momentum");
+      return;
+    }
     out_.indexed = first_indexed_.kind != Token::end;
     int n = 1;
     for (const auto& [i, s] : q_) n = std::max(n, i);
@@ -657,11 +661,12 @@ class Parser {
 
 }  // namespace
 
-Parsed parse(const std::string& text) {
+Parsed parse(const std::string& text, bool state_free) {
   if (text.size() > kMaxFormulaLength)
     fail("is " + std::to_string(text.size()) + " bytes long; K takes at most " +
          std::to_string(kMaxFormulaLength) + " (write a long sum with fewer terms, or split it into parameters)");
   Parsed parsed;
+  parsed.state_free = state_free;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");
   for (GiNaC::const_preorder_iterator it = parsed.K.preorder_begin(); it != parsed.K.preorder_end(); ++it)
