@@ -13,10 +13,7 @@
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
-#include "physics/coupled_oscillators.hpp"
-#include "physics/damped_oscillator.hpp"
-#include "physics/double_well.hpp"
-#include "physics/z2_damping.hpp"
+#include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 
 namespace cs {
 namespace {
@@ -231,14 +228,18 @@ void run_with(const RunPlan& plan, BlockResults& results) {
   else go.template operator()<Carry{false, false}>();
 }
 
+// The built-in scene of that name (BuiltinScenes: the catalog's list), run with Method.
+template <class Method, class... Scenes>
+void run_scene(const RunPlan& plan, BlockResults& results, SceneList<Scenes...>) {
+  const bool found = ((plan.scene.name == Scenes::name
+                           ? (run_with<Scenes, Method>(plan, results), true)
+                           : false) || ...);
+  if (!found) throw std::logic_error("no kernel for scene " + plan.scene.name);
+}
+
 template <class Method>
 void run_scene(const RunPlan& plan, BlockResults& results) {
-  const auto& name = plan.scene.name;
-  if (name == "damped_oscillator") return run_with<DampedOscillator, Method>(plan, results);
-  if (name == "z2_damping") return run_with<Z2Damping, Method>(plan, results);
-  if (name == "double_well") return run_with<DoubleWell, Method>(plan, results);
-  if (name == "coupled_oscillators") return run_with<CoupledOscillators, Method>(plan, results);
-  throw std::logic_error("no kernel for scene " + name);
+  run_scene<Method>(plan, results, BuiltinScenes{});
 }
 
 }  // namespace

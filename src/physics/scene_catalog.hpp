@@ -1,6 +1,7 @@
 // What the edge of the program (spec validation, `contactsweep scenes`, HDF5 attributes) needs
-// to know about a scene at run time. The compile-time side of a scene (its K) lives in the
-// scene's own header; both are tied together by one registration in scene_catalog.cpp.
+// to know about a scene at run time. A built-in scene has one source, its entry in
+// physics/scenes.toml: the build generates from it both this description
+// (scene_catalog_data.cpp) and the scene's header with K (formula/scene_catalog_gen.cpp).
 #pragma once
 
 #include <optional>
@@ -48,6 +49,9 @@ struct SceneInfo {
 };
 
 const std::vector<SceneInfo>& scene_catalog();
+
+// The built-in scenes' entries, generated from physics/scenes.toml (scene_catalog_data.cpp).
+std::vector<SceneInfo> builtin_scene_infos();
 
 // nullptr when no scene has that name.
 const SceneInfo* find_scene(std::string_view name);
