@@ -1,5 +1,7 @@
 // The double-well basin measure: the energy trap's margin, early stop against integration to
-// t_end, and labels against an independent accurate integration.
+// t_end, the trap's decision at t = 0 against its theory, and labels against an independent
+// accurate integration. The double well has no trap of its own: the general energy trap
+// (physics/energy_wells.hpp) serves it, and its label rule gives −1/+1.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,11 +12,26 @@
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
 #include "engine/run_plan.hpp"
+#include "io/linspace.hpp"
 #include "physics/double_well.hpp"
+#include "physics/energy_wells.hpp"
 #include "support/run_in_memory.hpp"
 
 namespace cs {
 namespace {
+
+// E = p²/2 + U(q); dE/dt = −γp², so it never increases for γ ≥ 0.
+double energy(double q, double p, double a) {
+  const double well = q * q - a * a;
+  return 0.5 * (p * p) + 0.5 * (well * well);
+}
+
+// The trap level the general energy trap finds for the double well over a map of |q| ≤ 3a.
+double trap_level(double h, double a, double gamma) {
+  BasinBox<1> box;
+  box.lo[0] = -4.5 * a, box.hi[0] = 4.5 * a;
+  return find_wells<DoubleWell>({a, gamma}, box, h).trap_energy;
+}
 
 // Largest rise of E = p²/2 + U(q) after any step at which E < a⁴/2, over a grid of
 // initial states: the amount the trap's margin must cover.
@@ -32,7 +49,7 @@ double largest_energy_rise(double h, double a, double gamma) {
       Method::template start<DoubleWell>(x, c);
       auto k = Method::template coefficients<DoubleWell>(h, c, x);
       for (long n = 0; n <= steps; ++n) {
-        energy[n] = DoubleWell::energy(x.q[0], x.p[0], a);
+        energy[n] = cs::energy(x.q[0], x.p[0], a);
         Method::template step<DoubleWell, Carry{false, false}>(x, c, k);
       }
       double later_max = -INFINITY;
@@ -48,15 +65,18 @@ double largest_energy_rise(double h, double a, double gamma) {
 // γ = 0 is the worst case: no damping to outweigh the integrator's energy oscillation.
 // Measured (in units of h²a⁶, h = 0.01 … 0.2, a = 1 and 1.5): 0.75 … 0.92 for the second-order
 // methods (at γ = 0 the hybrid and symmetric leap-frogs and Strang splitting coincide),
-// ≤ 0.19 for contact_splitting4, ≤ 0.01 for contact_splitting6 and rk4.
+// ≤ 0.19 for contact_splitting4, ≤ 0.01 for contact_splitting6 and rk4. The general trap's
+// margin h²·κ·ΔE is 2h²a⁶ here (κ = U''(±a) = 4a², ΔE = a⁴/2): checked, then held against
+// the rise (at γ = 0 the trap is not used, but the margin is what it would be).
 template <class Method>
 void expect_margin_covers_twice() {
-  const double margin_coefficient = RunPlan::basin_margin_coefficient;  // what runs use
   for (double h : {0.01, 0.05, 0.2}) {
     for (double a : {1.0, 1.5}) {
+      const double margin = 0.5 * std::pow(a, 4) - trap_level(h, a, 0.1);
+      EXPECT_NEAR(margin, 2.0 * h * h * std::pow(a, 6), 1e-6 * h * h * std::pow(a, 6))
+          << "h " << h << " a " << a;
       for (double gamma : {0.0, 0.1}) {
         double rise = largest_energy_rise<Method>(h, a, gamma);
-        double margin = margin_coefficient * h * h * std::pow(a, 6);
         EXPECT_LT(rise, 0.5 * margin) << "h " << h << " a " << a << " gamma " << gamma;
       }
     }
@@ -106,6 +126,30 @@ TEST(BasinTrap, EarlyStopLabelsEqualLabelsAtTheEndOnAWholeMap) {
   EXPECT_GT(static_cast<double>(decided) / a.size(), 0.99);
 }
 
+// The trap's decision at t = 0, cell by cell: a state whose E is below the level
+// a⁴/2 − 2h²a⁶ is decided at once (settle_time 0) for the well it is in (the sign of q0: the
+// label rule), and one whose E is at or above the saddle's a⁴/2 is not.
+TEST(BasinTrap, DecisionsAtTheStartFollowTheTrapLevel) {
+  auto r = test::run_in_memory(kMap);
+  const double h = 0.01, level = 0.5 - 2.0 * h * h;
+  const auto axis = linspace(-3.0, 3.0, 96);
+  int at_once = 0;
+  for (std::size_t i = 0; i < 96; ++i)
+    for (std::size_t j = 0; j < 96; ++j) {
+      const double q0 = axis[i], p0 = axis[j];
+      const std::size_t cell = i * 96 + j;
+      const double e0 = energy(q0, p0, 1.0);
+      if (e0 < level - 1e-12) {
+        ++at_once;
+        EXPECT_EQ(r["settle_time"][cell], 0.0) << "q0 " << q0 << " p0 " << p0;
+        EXPECT_EQ(r["basin"][cell], q0 > 0.0 ? 1.0 : -1.0) << "q0 " << q0 << " p0 " << p0;
+      } else if (e0 >= 0.5) {
+        EXPECT_FALSE(r["settle_time"][cell] == 0.0) << "q0 " << q0 << " p0 " << p0;
+      }
+    }
+  EXPECT_GT(at_once, 500);  // a test where no state starts trapped would compare nothing
+}
+
 // Independent reference: classical RK4 on q' = p, p' = −U'(q) − γp at h = 1e-3.
 int reference_basin(double q, double p, double gamma = 0.1) {
   auto force = [&](double q, double p) { return -2.0 * q * (q * q - 1.0) - gamma * p; };
@@ -118,35 +162,34 @@ int reference_basin(double q, double p, double gamma = 0.1) {
     q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
     p += h / 6 * (k1p + 2 * k2p + 2 * k3p + k4p);
   }
-  return DoubleWell::energy(q, p, 1.0) < 0.5 ? (q > 0 ? 1 : -1) : 0;
+  return energy(q, p, 1.0) < 0.5 ? (q > 0 ? 1 : -1) : 0;
 }
 
+// Chosen states as one map (the trap's box, from the map's positions, then holds both wells and
+// the saddle: a single state's box, q0 ± 1/2, would hold at most one well).
 TEST(BasinTrap, LabelsOfChosenStatesMatchAnAccurateReference) {
-  const std::vector<std::pair<double, double>> states{
-      {0.5, 0.0}, {-0.5, 0.3}, {2.0, 0.0}, {-2.0, 0.0}, {1.5, 1.5}, {-2.5, -1.0}, {0.2, -2.0}};
-  std::string q_values, p_values;
-  for (auto [q, p] : states) {
-    q_values += std::to_string(q) + ",";
-    p_values += std::to_string(p) + ",";
-  }
-  for (std::size_t i = 0; i < states.size(); ++i) {
-    auto [q, p] = states[i];
-    auto r = test::run_in_memory(R"(
-      [scene]
-      name = "double_well"
-      [measures]
-      basin = {})", {"initial.q=" + std::to_string(q), "initial.p=" + std::to_string(p)});
-    EXPECT_EQ(r["basin"][0], reference_basin(q, p)) << "q0 " << q << " p0 " << p;
-  }
+  const std::vector<double> qs{0.5, -0.5, 2.0, -2.0, 1.5, -2.5, 0.2, 0.0};
+  const std::vector<double> ps{0.0, 0.3, 1.5, -1.0, -2.0};
+  auto list = [](const std::vector<double>& v) {
+    std::string text;
+    for (double x : v) text += (text.empty() ? "" : ", ") + std::to_string(x);
+    return "{ values = [" + text + "] }";
+  };
+  auto r = test::run_in_memory(R"(
+    [scene]
+    name = "double_well"
+    [measures]
+    basin = {})", {"grid.q_0=" + list(qs), "grid.p_0=" + list(ps)});
+  for (std::size_t i = 0; i < qs.size(); ++i)
+    for (std::size_t j = 0; j < ps.size(); ++j)
+      EXPECT_EQ(r["basin"][i * ps.size() + j], reference_basin(qs[i], ps[j]))
+          << "q0 " << qs[i] << " p0 " << ps[j];
   // (0.5, 0) starts below the saddle energy: decided at once.
-  auto inside = test::run_in_memory("[scene]\nname = \"double_well\"\n[measures]\nbasin = {}",
-                                    {"initial.q=0.5", "initial.p=0.0"});
-  EXPECT_EQ(inside["settle_time"][0], 0.0);
-  // The saddle point (0, 0) is an equilibrium: it never settles.
-  auto saddle = test::run_in_memory("[scene]\nname = \"double_well\"\n[measures]\nbasin = {}",
-                                    {"initial.q=0.0", "initial.p=0.0"});
-  EXPECT_EQ(saddle["basin"][0], 0.0);
-  EXPECT_TRUE(std::isnan(saddle["settle_time"][0]));
+  EXPECT_EQ(r["settle_time"][0 * ps.size() + 0], 0.0);
+  // The saddle point (0, 0) is an equilibrium: it never settles (the energy trap refuses it as
+  // an attractor, which the anchor test alone would take it for).
+  EXPECT_EQ(r["basin"][7 * ps.size() + 0], 0.0);
+  EXPECT_TRUE(std::isnan(r["settle_time"][7 * ps.size() + 0]));
 }
 
 }  // namespace

@@ -11,8 +11,10 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
     k = round(-1000/2pi) = -159 ... 159, 319 attractors. More than int8's 127: `basin` and
     `attractor_label` are int16, label j+1 is the j-th minimum from the left, each cell's label
     is its own well's and each attractor's cell count is the number of q0 in its well.
-  * The double well (built-in exact trap, and written as K: two attractors) keeps int8 labels,
-    the trap's -1/+1 and flag_values; at rest |q0| < sqrt 2 (E0 < a^4/2) stays in its own well.
+  * The double well (built-in, and written as K: two attractors) keeps int8 labels, its label
+    rule's -1/+1 and flag_values; at rest |q0| < sqrt 2 (E0 < a^4/2) stays in its own well.
+    Where the rule cannot apply (a lane settled on the saddle) the labels are numbered, and the
+    file (basin_labels) and the log say why.
   * q0 in [-3 pi, 3 pi]: the box around the map, widened by half its width, used to end at
     +-6 pi, minima of V, which put the trap level at the minimum: the trap trapped nothing and
     every lane was integrated until it settled on line. Now the trap is used (root attribute
@@ -20,9 +22,10 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
     guarantees: its faces, moved in steps of 12 pi/128, land within 0.148 of a maximum, where
     V >= cos(0.148) = 0.989; less the margin h^2 kappa dE = 0.0025 * 1 * 2) is decided at t = 0
     with no step, so the lane-steps integrated are at most those of the cells above 0.98; inner
-    cells end at their own well's minimum (k = -1, 0, 1), and the labels equal those of the run
-    without the trap. With gamma in {0, 0.5} as a grid axis (a box per parameter set, checked per
-    lane), `energy_trap` says the trap served the damped half and why not the other (no
+    cells end at their own well's minimum (k = -1, 0, 1), the same the run without the trap
+    reaches; the two end cells, on the maxima +-3 pi, are undecided with the trap (it refuses an
+    unstable equilibrium as an attractor) and settle there without it. With gamma in {0, 0.5} as
+    a grid axis (a box per parameter set, checked per lane), `energy_trap` says the trap served the damped half and why not the other (no
     dissipation), and the damped half is trapped as above.
 """
 import math
@@ -165,6 +168,23 @@ for name, scene, want in [("double_well", 'name = "double_well"\na = 1.0\ngamma 
               list(f["basin"].attrs["flag_values"]) == [-1, 0, 1]
               and f["basin"].attrs["flag_values"].dtype == np.int8)
 
+# The double well's label rule where it cannot apply: without the energy trap (which knows (0, 0)
+# is a saddle) the lane that starts on the saddle settles there by the anchor test, a third
+# attractor at q = 0. The labels are then 1, 2, 3 (not a wrong sign), `basin` has no flags, and
+# the file and the log say why.
+f, log = run(DW.replace("{scene}", 'name = "double_well"\na = 1.0\ngamma = 0.1')
+             .replace("n = 64", "n = 65").replace("t_end = 100.0", "t_end = 300.0")
+             .replace("basin = {}", "basin = { exact_trap = false }"),
+             "double_well_saddle")
+if f is not None:
+    why = "cannot label these attractors: an attractor at q = 0"
+    check("double well on its saddle: labels numbered 1 2 3, the saddle 2",
+          list(f["attractor_label"][...]) == [1, 2, 3] and f["attractor_q"][1] == 0.0
+          and f["basin"][32] == 2, f"{f['attractor_label'][...]} {f['attractor_q'][...]}")
+    check("double well on its saddle: no flags on basin, basin_labels and the log say why",
+          "flag_values" not in f["basin"].attrs and why in f.attrs.get("basin_labels", "")
+          and why in log, f"{dict(f['basin'].attrs)} {f.attrs.get('basin_labels')}")
+
 # --- item 11: the trap on [-3 pi, 3 pi] --------------------------------------------------------
 LO, HI, N, H, T_END = -3 * math.pi, 3 * math.pi, 512, 0.05, 200.0
 trap, log_trap = run(PENDULUM.format(t_end=T_END, lo=LO, hi=HI, n=N, basin="{}"), "pendulum_3pi")
@@ -190,13 +210,19 @@ if trap is not None:
 if trap is not None and online is not None:
     check("without the trap: energy_trap says exact_trap = false",
           online.attrs.get("energy_trap") == "not used: measures.basin.exact_trap = false")
-    check("[-3 pi, 3 pi]: every cell decided, with and without the trap",
-          (trap["basin"][...] != 0).all() and (online["basin"][...] != 0).all())
-    check("[-3 pi, 3 pi]: the labels with the trap equal those without",
-          (trap["basin"][...] == online["basin"][...]).all(),
-          f"{(trap['basin'][...] != online['basin'][...]).sum()} cells differ")
-    # The end cells sit on the maxima +-3 pi, between two wells: they are left out.
+    # The end cells sit on the maxima +-3 pi, unstable equilibria between two wells: the search
+    # without the trap settles them there (two more attractors), the trap knows they are maxima
+    # of V and leaves them undecided. Every other cell reaches the same minimum either way.
     inner = np.abs(q0) < 3 * math.pi - 1e-9
+    check("[-3 pi, 3 pi]: every inner cell decided, with and without the trap",
+          (trap["basin"][...][inner] != 0).all() and (online["basin"][...] != 0).all())
+    check("[-3 pi, 3 pi]: with the trap the two cells on the maxima +-3 pi are undecided",
+          (trap["basin"][...][~inner] == 0).all() and (~inner).sum() == 2)
+    def reached(f):
+        return f["attractor_q"][...][np.abs(f["basin"][...][inner]).astype(int) - 1]
+    check("[-3 pi, 3 pi]: each inner cell reaches the same minimum with the trap as without",
+          np.allclose(reached(trap), reached(online), atol=1e-3, rtol=0),
+          f"{(~np.isclose(reached(trap), reached(online), atol=1e-3, rtol=0)).sum()} cells differ")
     at = trap["attractor_q"][...][trap["basin"][...] - 1]
     check("[-3 pi, 3 pi]: each inner cell ends at its own well's minimum 2 pi k, k = -1, 0, 1",
           np.allclose(at[inner], 2 * math.pi * wells(q0[inner]), atol=1e-3, rtol=0)

@@ -3,11 +3,12 @@
 // Each settled lane reports the point of its attractor (basin_point). Within a block, lanes whose
 // points lie within kLinkTolerances tolerances of a candidate's point (and have its period) join
 // it; the candidates of all blocks are then merged the same way, in block order, and numbered in
-// a sorted order. Blocks are a function of the spec alone (sweep.cpp), so the table and every
+// a sorted order by the scene's label rule. Blocks are a function of the spec alone (sweep.cpp), so the table and every
 // label are the same bits for any number of ranks and threads; no rank's timing enters.
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/results.hpp"
@@ -29,13 +30,24 @@ inline constexpr double kLinkTolerances = 4.0;
 // map of more points than labels.
 inline constexpr std::int64_t kMaxAttractors = 2147483647;
 
-// The block's candidate attractors, flat: per candidate {block begin, period, label, point..}
-// (label: the exact trap's ±1, else 0).
+// The block's candidate attractors, flat: per candidate {block begin, period, point..}.
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
 
-// The table from every block's candidates (any order of blocks: they are sorted first).
-// Labels: the trap's, else 1, 2, ... in the order of (period, point).
-std::vector<Attractor> merge_candidates(const RunPlan& plan, const std::vector<double>& records);
+// How the table's labels were chosen (label_rule.hpp).
+struct Labelling {
+  bool by_rule = true;      // false: the scene's rule fell back to numbering
+  std::string description;  // for the file (basin_labels) and the log; empty for `numbered`
+};
+
+// The table, sorted by (period, point), and how its labels were chosen.
+struct AttractorTable {
+  std::vector<Attractor> attractors;
+  Labelling labels;
+};
+
+// The table from every block's candidates (any order of blocks: they are sorted first),
+// labelled by the scene's rule (label_rule.hpp).
+AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records);
 
 // Replaces the provisional labels of a block (1: settled) by the table's.
 void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block);

@@ -13,10 +13,7 @@
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
-#include "physics/coupled_oscillators.hpp"
-#include "physics/damped_oscillator.hpp"
-#include "physics/double_well.hpp"
-#include "physics/z2_damping.hpp"
+#include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 
 namespace cs {
 namespace {
@@ -154,35 +151,28 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
     throw InputError(fmt::format("measures.basin: a basin map of {} points has more cells than "
                                  "the {} labels an int32 holds; use a coarser grid",
                                  grid.size(), kMaxAttractors));
-  const bool trap = basin.exact_trap && scene.name == "double_well" && !spec.custom;
-  basin_mode = trap ? BasinMode::trap : BasinMode::found;
-  if (trap) {
+  // The scene's label rule decides what the labels mean (label_rule.hpp); should it not apply
+  // to the attractors found, the file says so and the flags go (BasinSummary::labels).
+  const LabelRule& rule = scene.label_rule;
+  if (rule.kind == LabelRule::Kind::sign_of_q1)
     map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
-                     "left_well undecided right_well", std::nullopt});
-    map.settle_time = add({"settle_time", ElementType::float64, false,
-                           "time at which the energy trap decided the basin", "time", {}, "",
-                           std::nullopt});
-  } else {
-    map.basin = add({"basin", ElementType::int8, false,
-                     "basin of attraction: the attractor_label of the attractor reached (0: "
-                     "undecided)", "", {}, "", std::nullopt});
-    map.settle_time = add({"settle_time", ElementType::float64, false,
-                           "time from which the lane stayed near its attractor", "time", {}, "",
-                           std::nullopt});
-  }
+                     rule.negative + " undecided " + rule.positive, std::nullopt});
+  else
+    map.basin = add({"basin", ElementType::int8, false, kNumberedBasinLongName, "", {}, "",
+                     std::nullopt});
+  map.settle_time = add({"settle_time", ElementType::float64, false,
+                         "time from which the lane stayed near its attractor", "time", {}, "",
+                         std::nullopt});
   const int phase_space = 2 * scene.dof;
   // Whether the energy trap (energy_wells.hpp) served each lane, and if not why: the kernel
   // alone can tell (it evaluates V), so each lane reports it (BasinSummary::energy_trap).
-  if (!trap && basin.exact_trap)
+  if (basin.exact_trap)
     map.trap_verdict = add({"trap_verdict", ElementType::float64, false, "", "", {}, "",
                             std::nullopt},
                            1, true);
-  // The trap's attractors are the wells' minima (±a, 0): known from a lane's label and a, so
-  // the trap keeps no point per lane (6 MB less to journal on the 512² map).
-  if (!trap)
-    map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
-                           std::nullopt},
-                          phase_space + 1, true);
+  map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
+                         std::nullopt},
+                        phase_space + 1, true);
   AttractorSearch& a = attractors;
   a.tolerance = basin.tolerance;
   a.max_period = basin.max_period;
@@ -238,14 +228,18 @@ void run_with(const RunPlan& plan, BlockResults& results) {
   else go.template operator()<Carry{false, false}>();
 }
 
+// The built-in scene of that name (BuiltinScenes: the catalog's list), run with Method.
+template <class Method, class... Scenes>
+void run_scene(const RunPlan& plan, BlockResults& results, SceneList<Scenes...>) {
+  const bool found = ((plan.scene.name == Scenes::name
+                           ? (run_with<Scenes, Method>(plan, results), true)
+                           : false) || ...);
+  if (!found) throw std::logic_error("no kernel for scene " + plan.scene.name);
+}
+
 template <class Method>
 void run_scene(const RunPlan& plan, BlockResults& results) {
-  const auto& name = plan.scene.name;
-  if (name == "damped_oscillator") return run_with<DampedOscillator, Method>(plan, results);
-  if (name == "z2_damping") return run_with<Z2Damping, Method>(plan, results);
-  if (name == "double_well") return run_with<DoubleWell, Method>(plan, results);
-  if (name == "coupled_oscillators") return run_with<CoupledOscillators, Method>(plan, results);
-  throw std::logic_error("no kernel for scene " + name);
+  run_scene<Method>(plan, results, BuiltinScenes{});
 }
 
 }  // namespace

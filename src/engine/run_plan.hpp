@@ -48,10 +48,11 @@ struct ColumnMap {
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
 };
 
-// How basins are decided: the double well's exact energy trap, or attractors found on line.
-enum class BasinMode { none, trap, found };
+// The `basin` dataset's long_name when its labels are numbers 1..n (LabelRule::numbered).
+inline constexpr const char* kNumberedBasinLongName =
+    "basin of attraction: the attractor_label of the attractor reached (0: undecided)";
 
-// What a lane needs to find its attractor (BasinMode::found; see BasinMeasure).
+// What a lane needs to find its attractor (engine/mappers/; see BasinMeasure).
 struct AttractorSearch {
   std::int64_t sample_steps = 0;  // steps between samples: the period's, or the look interval
   int dwell_samples = 0;          // consecutive samples near the attractor that settle a lane
@@ -70,11 +71,6 @@ struct RunPlan {
   std::int64_t sync_first_step = 0, sync_last_step = -1;  // the sync window, on looks only
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
-  // A double-well lane is trapped once E < a⁴/2 − C·h²·a⁶. After a lane dips below a⁴/2 its
-  // energy rises by at most 0.92·h²·a⁶ with any of our methods (worst: the second-order ones at
-  // γ = 0, h ≤ 0.2; measured in test_basin.cpp), so C = 2 leaves a factor 2.2.
-  static constexpr double basin_margin_coefficient = 2.0;
-  BasinMode basin_mode = BasinMode::none;
   AttractorSearch attractors;
   std::vector<ColumnSpec> columns;
   ColumnMap map;

@@ -38,7 +38,7 @@ KFormula parse_and_analyse(const std::string& text) {
   }
   f.traits = analyse(parsed);
   // Generate once so that every refusal (a constant beyond the double range, ...) happens here.
-  return_statement(parsed, fields_of(f.parameters));
+  return_statement(parsed, field_names(f.parameters));
   return f;
 }
 

@@ -1,5 +1,5 @@
-// scene.K's lexer and parser: the text to a tree as written and its GiNaC expression, with
-// the column of every error. The grammar, and why GiNaC's own parser is not used: k_formula.hpp.
+// scene.K's parser (tokens from k_lexer.cpp): the text to a tree as written and its GiNaC
+// expression, with the column of every error. The grammar, and why GiNaC's own parser is not used: k_formula.hpp.
 #include <cln/rational.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "formula/k_lexer.hpp"
 #include "formula/k_tree.hpp"
 
 namespace cs::k_formula {
@@ -97,215 +98,6 @@ ex apply_function(std::string_view name, const ex& a) {
   if (name == "asin") return GiNaC::asin(a);
   if (name == "acos") return GiNaC::acos(a);
   return GiNaC::atan(a);
-}
-
-
-}  // namespace
-
-// ---- exact numbers and doubles -----------------------------------------------------------------
-
-// The exact rational value of a finite double.
-numeric exact_of(double x) {
-  if (x == 0.0) return numeric(0);
-  int e = 0;
-  double frac = std::frexp(x, &e);  // x = frac · 2^e, 0.5 ≤ |frac| < 1
-  auto mantissa = static_cast<long long>(std::ldexp(frac, 53));
-  numeric m(static_cast<long>(mantissa));
-  numeric two(2);
-  return e - 53 >= 0 ? m * two.power(e - 53) : m / two.power(53 - e);
-}
-
-bool even_mantissa(double x) {
-  int e = 0;
-  double frac = std::frexp(x, &e);
-  return (static_cast<long long>(std::ldexp(frac, 53)) & 1) == 0;
-}
-
-// The double nearest to an exact rational (ties to even); ±inf beyond the double range. CLN's
-// own conversion is only the starting guess: its neighbours are compared exactly.
-double nearest_double(const numeric& r) {
-  if (r.is_zero()) return 0.0;
-  // Below the smallest normal double the doubles are k·2^−1074: k is r·2^1074 rounded, exactly
-  // (CLN's conversion flushes these to 0, and 4.2e-322 is 85 steps away from there).
-  const numeric subnormal_unit = numeric(1) / numeric(2).power(1074);
-  if (abs(r) < exact_of(std::numeric_limits<double>::min())) {
-    const numeric scaled = abs(r) / subnormal_unit;
-    numeric k(cln::floor1(cln::the<cln::cl_RA>(scaled.to_cl_N())));
-    const numeric rest = scaled - k;
-    if (rest > numeric(1, 2) || (rest == numeric(1, 2) && k.is_odd())) k = k + 1;
-    const double x = std::ldexp(k.to_double(), -1074);
-    return r < 0 ? -x : x;
-  }
-  double x = r.to_double();
-  if (!std::isfinite(x)) x = r > 0 ? std::numeric_limits<double>::max() : -std::numeric_limits<double>::max();
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  for (int guard = 0; guard < 4; ++guard) {
-    double best = x;
-    numeric best_err = abs(r - exact_of(x));
-    for (double y : {std::nextafter(x, -inf), std::nextafter(x, inf)}) {
-      if (!std::isfinite(y)) continue;
-      numeric err = abs(r - exact_of(y));
-      if (err < best_err || (err == best_err && even_mantissa(y) && !even_mantissa(best))) {
-        best = y;
-        best_err = err;
-      }
-    }
-    if (best == x) break;
-    x = best;
-  }
-  // Past the largest double by at least half its spacing: overflow.
-  double max = std::numeric_limits<double>::max();
-  if (std::fabs(x) == max) {
-    numeric half_ulp = exact_of(max) - exact_of(std::nextafter(max, 0.0));
-    half_ulp = half_ulp / 2;
-    if (abs(r) >= exact_of(max) + half_ulp) return r > 0 ? inf : -inf;
-  }
-  return x;
-}
-
-// The shortest decimal that reads back as x, always with a '.' or an exponent (a double literal).
-std::string double_literal(double x) {
-  std::array<char, 64> buf{};
-  auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), x);
-  std::string s(buf.data(), end);
-  if (s.find_first_of(".e") == std::string::npos) s += ".0";
-  return s;
-}
-
-namespace {
-
-// ---- positions in K ------------------------------------------------------------------------------
-
-// "column 7" (1-based, in characters), or "line 2, column 3" when K spans lines.
-std::string where(const std::string& text, std::size_t offset) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    auto c = static_cast<unsigned char>(text[i]);
-    if (c == '\n') {
-      ++line;
-      column = 1;
-    } else if ((c & 0xC0) != 0x80) {
-      ++column;  // a UTF-8 continuation byte is part of the previous character
-    }
-  }
-  if (text.find('\n') == std::string::npos) return "column " + std::to_string(column);
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
-}  // namespace
-
-// ---- lexer ---------------------------------------------------------------------------------------
-
-struct Token {
-  enum Kind { end, number, name, op } kind = end;
-  std::string text;
-  std::size_t offset = 0;
-};
-
-bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
-
-namespace {
-
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
-
-// Tokens one at a time, so that errors come in the order of the text.
-class Lexer {
- public:
-  explicit Lexer(const std::string& text) : text_(text) {}
-
-  Token next() {
-    const std::size_t n = text_.size();
-    while (i_ < n && (text_[i_] == ' ' || text_[i_] == '\t' || text_[i_] == '\n' || text_[i_] == '\r')) ++i_;
-    if (i_ >= n) return {Token::end, "", n};
-    const std::size_t start = i_;
-    const char c = text_[i_];
-    if (is_name_start(c)) {
-      while (i_ < n && is_name_char(text_[i_])) ++i_;
-      return {Token::name, text_.substr(start, i_ - start), start};
-    }
-    if (is_digit(c) || (c == '.' && i_ + 1 < n && is_digit(text_[i_ + 1]))) {
-      while (i_ < n && is_digit(text_[i_])) ++i_;
-      if (i_ < n && text_[i_] == '.') {
-        ++i_;
-        while (i_ < n && is_digit(text_[i_])) ++i_;
-      }
-      if (i_ < n && (text_[i_] == 'e' || text_[i_] == 'E')) {
-        std::size_t e = i_++;
-        if (i_ < n && (text_[i_] == '+' || text_[i_] == '-')) ++i_;
-        if (i_ >= n || !is_digit(text_[i_]))
-          syntax(e, "the number '" + text_.substr(start, i_ - start) +
-                        "' has no exponent digits (write 2.5e-3, or 2*e for a parameter e)");
-        while (i_ < n && is_digit(text_[i_])) ++i_;
-      }
-      return {Token::number, text_.substr(start, i_ - start), start};
-    }
-    if (c == '*' && i_ + 1 < n && text_[i_ + 1] == '*')
-      syntax(start, "'**' is not an operator; write ^ for a power (q^2)");
-    if (std::string_view("+-*/^(),").find(c) != std::string_view::npos) {
-      ++i_;
-      return {Token::op, std::string(1, c), start};
-    }
-    if (c == '=' || c == '<' || c == '>' || c == '!') {
-      std::size_t len = (i_ + 1 < n && text_[i_ + 1] == '=') ? 2 : 1;
-      syntax(start, "'" + text_.substr(start, len) +
-                        "' is a comparison or assignment; K is an expression, not an equation");
-    }
-    std::size_t len = 1;
-    auto u = static_cast<unsigned char>(c);
-    if (u >= 0x80)  // show the whole UTF-8 character
-      while (start + len < n && (static_cast<unsigned char>(text_[start + len]) & 0xC0) == 0x80) ++len;
-    std::string shown = (u < 0x20 || u == 0x7f) ? "\\x" + std::to_string(u) : text_.substr(start, len);
-    syntax(start, "unexpected character '" + shown + "'" +
-                      (u >= 0x80 ? " (names are ASCII: write omega, not ω)" : ""));
-  }
-
- private:
-  [[noreturn]] void syntax(std::size_t at, const std::string& what) const {
-    fail("syntax error at " + where(text_, at) + ": " + what);
-  }
-  const std::string& text_;
-  std::size_t i_ = 0;
-};
-
-// An exact decimal: digits, an optional fraction and exponent; refused beyond the double range
-// (decided before any big-number arithmetic, so 1e999999999 costs nothing).
-numeric exact_decimal(const std::string& literal, const std::string& text, std::size_t offset) {
-  std::string digits;
-  long long exponent = 0;
-  std::size_t i = 0;
-  for (; i < literal.size() && is_digit(literal[i]); ++i) digits += literal[i];
-  if (i < literal.size() && literal[i] == '.')
-    for (++i; i < literal.size() && is_digit(literal[i]); ++i) {
-      digits += literal[i];
-      --exponent;
-    }
-  if (i < literal.size()) {  // e or E
-    ++i;
-    bool negative = false;
-    if (literal[i] == '+' || literal[i] == '-') negative = literal[i++] == '-';
-    long long e = 0;
-    for (; i < literal.size(); ++i) e = std::min<long long>(e * 10 + (literal[i] - '0'), 100000);
-    exponent += negative ? -e : e;
-  }
-  std::size_t first = digits.find_first_not_of('0');
-  if (first == std::string::npos) return numeric(0);
-  digits = digits.substr(first);
-  // value = digits · 10^exponent, and 10^lead ≤ value < 10^(lead + 1)
-  long long lead = exponent + static_cast<long long>(digits.size()) - 1;
-  auto out_of_range = [&](const char* what) {
-    fail("the number " + literal + " at " + where(text, offset) + " is " + what +
-         " of a double (4.9e-324 to 1.8e308)");
-  };
-  if (lead > 309) out_of_range("beyond the range");
-  if (lead < -325) out_of_range("below the smallest positive value");
-  numeric value(digits.c_str());
-  numeric ten(10);
-  value = exponent >= 0 ? value * ten.power(exponent) : value / ten.power(-exponent);
-  double x = nearest_double(value);
-  if (std::isinf(x)) out_of_range("beyond the range");
-  if (x == 0.0) out_of_range("below the smallest positive value");
-  return value;
 }
 
 // ---- names ---------------------------------------------------------------------------------------
@@ -631,8 +423,12 @@ class Parser {
 
   // The dof is the highest index written; unwritten q_i, p_i below it are made now.
   void finish_variables() {
-    if (q_.empty() && p_.empty())
+    if (q_.empty() && p_.empty() && !out_.state_free)
       fail("has no position or momentum: K must contain q or p (or q1..qN, p1..pN)");
+    if (out_.state_free) {
+      if (!q_.empty() || !p_.empty()) fail("must not read a position or momentum");
+      return;
+    }
     out_.indexed = first_indexed_.kind != Token::end;
     int n = 1;
     for (const auto& [i, s] : q_) n = std::max(n, i);
@@ -657,11 +453,12 @@ class Parser {
 
 }  // namespace
 
-Parsed parse(const std::string& text) {
+Parsed parse(const std::string& text, bool state_free) {
   if (text.size() > kMaxFormulaLength)
     fail("is " + std::to_string(text.size()) + " bytes long; K takes at most " +
          std::to_string(kMaxFormulaLength) + " (write a long sum with fewer terms, or split it into parameters)");
   Parsed parsed;
+  parsed.state_free = state_free;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");
   for (GiNaC::const_preorder_iterator it = parsed.K.preorder_begin(); it != parsed.K.preorder_end(); ++it)

@@ -65,10 +65,12 @@ struct Parsed {
   std::map<std::string, GiNaC::realsymbol> parameters;  // sorted by name
   int dof = 0;
   bool indexed = false;
+  bool state_free = false;  // a formula in the parameters alone (a natural frequency), not K
 };
 
 // The tree and GiNaC expression of K; throws InputError naming the problem (and its column).
-Parsed parse(const std::string& text);
+// With state_free the formula may not read q or p (and need not).
+Parsed parse(const std::string& text, bool state_free = false);
 
 // The traits the kernel needs, from GiNaC's symbolic partials of parsed.K (k_traits.cpp).
 KTraits analyse(const Parsed& parsed);
@@ -76,8 +78,15 @@ KTraits analyse(const Parsed& parsed);
 // The names of the generated Params' fields for `parameters` (scene_codegen.cpp).
 std::vector<std::string> fields_of(const std::vector<std::string>& parameters);
 
+// Each parameter's field in the generated Params, by parameter name (from fields_of).
+using FieldNames = std::map<std::string, std::string>;
+FieldNames field_names(const std::vector<std::string>& parameters);
+
+// The C++ of the whole tree (scene_codegen.cpp), as one expression.
+std::string expression_code(const Parsed& parsed, const FieldNames& fields);
+
 // "return <K as C++>;" for the body of the generated K (scene_codegen.cpp); refuses constants
 // that are not finite doubles.
-std::string return_statement(const Parsed& parsed, const std::vector<std::string>& fields);
+std::string return_statement(const Parsed& parsed, const FieldNames& fields);
 
 }  // namespace cs::k_formula

@@ -4,10 +4,8 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <pwd.h>
-#include <signal.h>
-#include <sys/prctl.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,8 +26,11 @@
 
 #include "io/log.hpp"
 #include "io/owned_directory.hpp"
+#include "kernel_build/child_process.hpp"
+#include "kernel_build/compiler_identity.hpp"
 #include "kernel_build/host_cpu.hpp"
 #include "kernel_build/kernel_source.hpp"
+#include "kernel_build/sealed_library.hpp"
 #include "kernel_headers_hash.hpp"
 #include "model/run_spec.hpp"
 #include "mpi/agreement.hpp"
@@ -38,8 +39,6 @@
 #include "toolchain_config.hpp"
 #include "version.hpp"
 
-extern char** environ;
-
 namespace cs {
 namespace fs = std::filesystem;
 namespace {
@@ -47,14 +46,6 @@ namespace {
 // How long a second builder waits for the first one before building its own copy.
 constexpr double kLockWaitSeconds = 600.0;
 
-constexpr const char* kCachePurpose = "the kernel cache";
-
-// Appended to every library after linking (ELF ignores bytes past its sections): proves the file
-// is whole and was made for this key before it is mapped, so neither a truncated file (SIGBUS
-// inside dlopen) nor another K's kernel under this name is ever loaded.
-constexpr char kTrailerMagic[8] = {'C', 'S', 'K', 'E', 'R', 'N', '0', '1'};
-constexpr std::size_t kKeyChars = 16;
-constexpr std::size_t kTrailerBytes = sizeof kTrailerMagic + kKeyChars + 2 * sizeof(std::uint64_t);
 
 std::string errno_text(int error) { return std::strerror(error); }
 
@@ -98,150 +89,6 @@ bool builds_for_this_cpu(const Toolchain& tc) {
   });
 }
 
-// Runs `args` with stdout and stderr on `output_fd`; returns its exit status. The child dies
-// with this process (a killed run leaves no compiler behind) and sees `extra_env` on top of
-// ours. Throws when the program cannot be started, saying why (not found, not executable, ...).
-int run_program(const std::vector<std::string>& args, int output_fd,
-                const std::vector<std::string>& extra_env = {}) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  std::vector<std::string> env_text(extra_env);
-  for (char** e = environ; *e != nullptr; ++e) {
-    const std::string entry = *e;
-    const bool overridden = std::any_of(extra_env.begin(), extra_env.end(), [&](const auto& x) {
-      return entry.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0;
-    });
-    if (!overridden) env_text.push_back(entry);
-  }
-  std::vector<char*> envp;
-  for (auto& e : env_text) envp.push_back(e.data());
-  envp.push_back(nullptr);
-
-  int exec_error[2];  // the child reports a failed exec here; closed on a successful one
-  if (::pipe2(exec_error, O_CLOEXEC) != 0)
-    throw std::runtime_error("cannot start " + args[0] + ": " + errno_text(errno));
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    const int error = errno;
-    ::close(exec_error[0]);
-    ::close(exec_error[1]);
-    throw std::runtime_error("cannot start " + args[0] + ": " + errno_text(error));
-  }
-  if (pid == 0) {  // only async-signal-safe calls from here on
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
-    ::dup2(output_fd, 1);
-    ::dup2(output_fd, 2);
-    ::execvpe(argv[0], argv.data(), envp.data());
-    const int error = errno;
-    [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);
-    ::_exit(127);
-  }
-  ::close(exec_error[1]);
-  int child_error = 0;
-  ssize_t got;
-  while ((got = ::read(exec_error[0], &child_error, sizeof child_error)) < 0 && errno == EINTR) {
-  }
-  ::close(exec_error[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (got == static_cast<ssize_t>(sizeof child_error))
-    throw std::runtime_error(fmt::format(
-        "cannot run the C++ compiler '{}' to build the kernel of scene.K: {}{}", args[0],
-        errno_text(child_error),
-        child_error == ENOENT
-            ? ". contactsweep compiles each new K once (then caches it); install g++ or point "
-              "CONTACTSWEEP_CXX at a C++20 compiler"
-            : ""));
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-// The compiler's file as found on PATH: its path and what the file system says of it (device,
-// inode, size, modification and change times), or "" when it is not found. An upgrade or a
-// switch of the symlink g++ -> g++-N changes it; the change time cannot be set back by anyone.
-std::string compiler_file_signature(const std::string& compiler) {
-  std::vector<std::string> candidates;
-  if (compiler.find('/') != std::string::npos) {
-    candidates.push_back(compiler);
-  } else {
-    for (const std::string& dir : split(env_or("PATH", "/usr/bin:/bin"), ':'))
-      candidates.push_back(dir + "/" + compiler);
-  }
-  for (const std::string& path : candidates) {
-    struct stat status {};
-    if (::stat(path.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
-        ::access(path.c_str(), X_OK) == 0)
-      return fmt::format("{} {} {} {} {}.{} {}.{}", path, status.st_dev, status.st_ino,
-                         status.st_size, status.st_mtim.tv_sec, status.st_mtim.tv_nsec,
-                         status.st_ctim.tv_sec, status.st_ctim.tv_nsec);
-  }
-  return {};
-}
-
-// Runs `compiler --version` and returns what it prints.
-std::string ask_version(const std::string& compiler) {
-  int out[2];
-  if (::pipe2(out, O_CLOEXEC) != 0)
-    throw std::runtime_error("cannot ask the compiler its version: " + errno_text(errno));
-  std::string text;
-  int status = 0;
-  std::thread reader([&] {  // drains the pipe while the child writes (no deadlock on long text)
-    char buffer[4096];
-    for (ssize_t n; (n = ::read(out[0], buffer, sizeof buffer)) != 0;) {
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) break;
-      text.append(buffer, static_cast<std::size_t>(n));
-    }
-  });
-  try {
-    status = run_program({compiler, "--version"}, out[1]);
-  } catch (...) {
-    ::close(out[1]);
-    reader.join();
-    ::close(out[0]);
-    throw;
-  }
-  ::close(out[1]);
-  reader.join();
-  ::close(out[0]);
-  if (status != 0)
-    throw std::runtime_error(fmt::format("the C++ compiler '{}' failed to tell its version "
-                                         "(exit status {}): {}", compiler, status, text));
-  return text;
-}
-
-// The compiler's identity as it reports it (`--version`): an upgraded compiler under the same
-// path builds another key. Starting a compiler costs milliseconds, so the answer is kept in the
-// cache under the signature of the compiler's file and asked again only when that changes.
-std::string compiler_identity(const std::string& compiler) {
-  static std::mutex mutex;
-  static std::map<std::string, std::string> known;
-  const std::lock_guard<std::mutex> lock(mutex);
-  const std::string signature = compiler_file_signature(compiler);
-  const std::string memo_key = compiler + '\0' + signature;
-  if (auto it = known.find(memo_key); it != known.end()) return it->second;
-  const std::string memo = fmt::format("compiler-{:016x}.id", fnv1a(memo_key));
-  OwnedDirectory cache;
-  try {
-    if (!signature.empty())
-      cache = OwnedDirectory(kernel_cache_directory(), kCachePurpose, OwnedDirectory::Create::no);
-  } catch (const InputError&) {  // an untrusted cache: refused where it is used, not here
-  }
-  std::string text;
-  if (cache.is_open() && cache.read_file(memo, text)) return known[memo_key] = text;
-  text = ask_version(compiler);
-  if (cache.is_open()) {
-    try {
-      cache.write_atomically(memo, text, /*shared=*/true);
-    } catch (const std::exception&) {  // only a memo: asked again next time
-    }
-  }
-  return known[memo_key] = text;
-}
-
 // Where the user's home is: HOME, else the passwd entry's (batch jobs may have no HOME).
 std::string home_directory() {
   if (const char* home = std::getenv("HOME"); home != nullptr && *home == '/') return home;
@@ -253,77 +100,6 @@ std::string home_directory() {
     return found->pw_dir;
   return {};
 }
-
-// The library's trailer: magic, key, size of what precedes it, its checksum.
-std::string trailer(std::string_view body, const std::string& key) {
-  std::string out(kTrailerMagic, sizeof kTrailerMagic);
-  out += key;
-  const std::uint64_t fields[2] = {body.size(), fnv1a(body)};
-  out.append(reinterpret_cast<const char*>(fields), sizeof fields);
-  return out;
-}
-
-// Why `bytes` is not a whole library made for `key`; "" when it is.
-std::string why_not_kernel_of(const std::string& bytes, const std::string& key) {
-  if (bytes.size() < kTrailerBytes) return "it is truncated";
-  const std::string_view body(bytes.data(), bytes.size() - kTrailerBytes);
-  const std::string_view tail(bytes.data() + body.size(), kTrailerBytes);
-  if (tail.substr(0, sizeof kTrailerMagic) != std::string_view(kTrailerMagic, sizeof kTrailerMagic))
-    return "it is truncated or not a kernel of this contactsweep";
-  if (tail.substr(sizeof kTrailerMagic, kKeyChars) != key)
-    return "it was built for another kernel (key " +
-           std::string(tail.substr(sizeof kTrailerMagic, kKeyChars)) + ")";
-  if (tail != trailer(body, key)) return "it is damaged (its size or checksum differs)";
-  return {};
-}
-
-// A cached library of ours, read and checked, with its descriptor open for dlopen.
-struct CheckedLibrary {
-  int fd = -1;
-  bool missing = false;
-  std::string problem;  // "" when fit to load
-  CheckedLibrary() = default;
-  CheckedLibrary(const CheckedLibrary&) = delete;
-  CheckedLibrary& operator=(const CheckedLibrary&) = delete;
-  ~CheckedLibrary() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-void check_library(const OwnedDirectory& dir, const std::string& name, const std::string& key,
-                   CheckedLibrary& out) {
-  out.fd = ::openat(dir.fd(), name.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-  if (out.fd < 0) {
-    out.missing = errno == ENOENT;
-    out.problem = errno == ELOOP ? "it is a symbolic link" : errno_text(errno);
-    return;
-  }
-  struct stat status {};
-  if (::fstat(out.fd, &status) != 0 || !S_ISREG(status.st_mode)) {
-    out.problem = "it is not a regular file";
-  } else if (status.st_uid != ::geteuid()) {
-    out.problem = fmt::format("it belongs to user id {}, not to you", status.st_uid);
-  } else if ((status.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
-    out.problem = fmt::format("others can write to it (mode {:04o})", status.st_mode & 07777);
-  } else {
-    std::string bytes(static_cast<std::size_t>(status.st_size), '\0');
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = ::pread(out.fd, bytes.data() + done, bytes.size() - done,
-                                static_cast<off_t>(done));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      done += static_cast<std::size_t>(n);
-    }
-    out.problem = done == bytes.size() ? why_not_kernel_of(bytes, key) : "it cannot be read";
-  }
-  if (!out.problem.empty()) {
-    ::close(out.fd);
-    out.fd = -1;
-  }
-}
-
-std::string library_name(const std::string& key) { return "kernel-" + key + ".so"; }
 
 // Holds a write lock on `name` in `dir` while alive, or nothing if none could be had in time.
 class BuildLock {
@@ -422,23 +198,8 @@ std::string read_tail(const OwnedDirectory& dir, const std::string& name, std::s
   return out;
 }
 
-// Appends the trailer to the freshly linked library `name` in `dir`.
-void seal_library(const OwnedDirectory& dir, const std::string& name, const std::string& key) {
-  std::string bytes;
-  if (!dir.read_file(name, bytes))
-    throw std::runtime_error("the compiler wrote no library " + dir.path_of(name));
-  const std::string tail = trailer(bytes, key);
-  const int fd = ::openat(dir.fd(), name.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
-  const bool ok = fd >= 0 && ::write(fd, tail.data(), tail.size()) == static_cast<ssize_t>(tail.size()) &&
-                  ::fchmod(fd, 0600) == 0 && ::fsync(fd) == 0;
-  const int error = errno;
-  if (fd >= 0) ::close(fd);
-  if (!ok) throw std::runtime_error("cannot finish the library " + dir.path_of(name) + ": " +
-                                    errno_text(error));
-}
-
 OwnedDirectory open_cache(OwnedDirectory::Create create) {
-  return OwnedDirectory(kernel_cache_directory(), kCachePurpose, create);
+  return OwnedDirectory(kernel_cache_directory(), kKernelCachePurpose, create);
 }
 
 }  // namespace
@@ -518,7 +279,7 @@ BuiltKernel build_kernel(const std::string& source) {
     const std::string& name;
     ~RemoveBuild() { remove_build_directory(cache, name); }
   } remove_build{dir, build_name};
-  const OwnedDirectory work(dir.path_of(build_name), kCachePurpose, OwnedDirectory::Create::no);
+  const OwnedDirectory work(dir.path_of(build_name), kKernelCachePurpose, OwnedDirectory::Create::no);
   if (!work.is_open())
     throw std::runtime_error("the build directory " + dir.path_of(build_name) + " vanished");
   work.write_atomically("kernel.cpp", with_kernel_key(source, key));

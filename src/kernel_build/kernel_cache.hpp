@@ -33,6 +33,9 @@ struct RunPlan;
 struct BlockResults;
 using KernelFn = void (*)(const RunPlan&, BlockResults&);
 
+// How the cache is named in messages about its trust (io/owned_directory.hpp).
+inline constexpr const char* kKernelCachePurpose = "the kernel cache";
+
 struct Toolchain {
   std::string compiler;              // $CONTACTSWEEP_CXX, else the program's own compiler
   std::vector<std::string> flags;    // the program's own, plus -fPIC -shared

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -59,8 +60,6 @@ std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
 std::string energy_trap_verdict(const RunPlan& whole,
                                 const std::vector<std::unique_ptr<BlockResults>>& results,
                                 MPI_Comm comm) {
-  if (whole.basin_mode == BasinMode::trap)
-    return "used: the double well's exact trap, E < a^4/2 - 2 h^2 a^6";
   if (whole.map.trap_verdict < 0) return "not used: measures.basin.exact_trap = false";
   constexpr int kVerdicts = 6;
   std::int64_t counts[kVerdicts] = {};
@@ -102,13 +101,15 @@ BasinSummary summarise_basins(const RunPlan& whole,
     const std::vector<double> c = block_candidates(whole, *block);
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
-  summary.table = merge_candidates(whole, gather(comm, candidates, true));
+  AttractorTable table = merge_candidates(whole, gather(comm, candidates, true));
+  summary.table = std::move(table.attractors);
+  summary.labels = std::move(table.labels);
   for (const ElementType type : {ElementType::int8, ElementType::int16, ElementType::int32}) {
     summary.label_type = type;
     const double limit = type == ElementType::int8 ? 127.0 : type == ElementType::int16 ? 32767.0
                                                                                            : 2147483647.0;
     if (std::all_of(summary.table.begin(), summary.table.end(),
-                    [&](const Attractor& a) { return a.label <= limit; }))
+                    [&](const Attractor& a) { return a.label >= -limit && a.label <= limit; }))
       break;
   }
   for (auto& block : results) label_block(whole, summary.table, *block);
@@ -181,6 +182,8 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   number["boundary_dimension"] = s.boundary_dimension;
   number["basin_tolerance"] = plan.attractors.tolerance;
   layout.text_attributes["energy_trap"] = basins.energy_trap;
+  if (!basins.labels.description.empty())
+    layout.text_attributes["basin_labels"] = basins.labels.description;
   layout.text_attributes["basin_boundary"] =
       std::isnan(s.boundary_basin_entropy) ? "no boundary on the map"
       : s.boundary_basin_entropy > std::numbers::ln2
@@ -249,6 +252,7 @@ std::string describe(const BasinSummary& basins) {
     text += fmt::format("; {} ({}period {}) {:.4f}", a.label,
                         fmt::format("{:.4g}, ", fmt::join(a.point, ", ")), a.period, fraction(a.label));
   text += fmt::format("; undecided {:.4f}; energy trap: {}", fraction(0), basins.energy_trap);
+  if (!basins.labels.description.empty()) text += "; labels: " + basins.labels.description;
   if (!std::isnan(s.basin_entropy))
     text += fmt::format("; S_b = {:.4f}, S_bb = {:.4f} ({} ln 2: {}), uncertainty exponent {:.3f} "
                         "(boundary dimension {:.3f})",

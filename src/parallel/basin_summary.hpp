@@ -21,6 +21,9 @@ struct BasinSummary {
   // The type of `basin` and `attractor_label`: int8 while the labels fit (the double well's
   // -1/+1 and every map of up to 127 attractors keep their files), int16, then int32, beyond.
   ElementType label_type = ElementType::int8;
+  // What the labels mean: the scene's rule, or why it could not apply (the root attribute
+  // `basin_labels`; `basin` then loses the rule's flags: output_assembly.cpp).
+  Labelling labels;
   // Whether the energy trap decided basins, and if not why (the root attribute `energy_trap`).
   std::string energy_trap;
   BasinStatistics statistics;                    // rank 0

@@ -18,11 +18,18 @@
 namespace cs {
 namespace {
 
-// Column k's dataset as written: `basin` takes the type its labels need (BasinSummary).
+// Column k's dataset as written: `basin` takes the type its labels need (BasinSummary), and
+// numbered labels where the scene's label rule could not apply have no flags.
 DatasetSpec written_dataset(const RunPlan& plan, const OutputOptions& options, std::size_t k) {
   DatasetSpec dataset = plan.columns[k].dataset;
-  if (options.basins && static_cast<int>(k) == plan.map.basin)
+  if (options.basins && static_cast<int>(k) == plan.map.basin) {
     dataset.type = options.basins->label_type;
+    if (!options.basins->labels.by_rule) {
+      dataset.long_name = kNumberedBasinLongName;
+      dataset.flag_values.clear();
+      dataset.flag_meanings.clear();
+    }
+  }
   return dataset;
 }
 

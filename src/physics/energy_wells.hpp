@@ -66,6 +66,9 @@ struct Wells {
   bool boundary_limited = false;  // the level is V's least value on the box's boundary
   double trap_energy = -std::numeric_limits<double>::infinity();  // E < this: trapped (margin in)
   std::vector<std::array<double, D>> minima;
+  std::vector<std::array<double, D>> unstable;  // the other critical points: saddles, maxima
+  double highest_minimum = INFINITY;              // V's largest value at a minimum
+  double confinement = -INFINITY;  // E below it never reaches the box's boundary (as the level)
   double curvature = 1.0;  // the largest |eigenvalue| of V's Hessian at a critical point
 };
 
@@ -96,11 +99,16 @@ class WellFinder {
       }
       if (minima.empty()) return wells;
       double level = boundary_minimum(), curvature = 0.0, lowest = INFINITY;
+      wells.confinement = level;
       double saddle = INFINITY;
       for (const Point& y : others) saddle = std::min(saddle, V(y));
       wells.boundary_limited = !(saddle <= level);
       level = std::min(level, saddle);
-      for (const Point& y : minima) lowest = std::min(lowest, V(y));
+      wells.highest_minimum = -INFINITY;
+      for (const Point& y : minima) {
+        lowest = std::min(lowest, V(y));
+        wells.highest_minimum = std::max(wells.highest_minimum, V(y));
+      }
       for (const auto* list : {&minima, &others})
         for (const Point& y : *list) curvature = std::max(curvature, largest_curvature(y));
       const double margin = h_ * h_ * curvature * std::max(0.0, level - lowest);
@@ -111,6 +119,7 @@ class WellFinder {
       wells.trap_energy = level - margin;
       std::sort(minima.begin(), minima.end());
       wells.minima = minima;
+      wells.unstable = others;
       wells.curvature = std::max(curvature, 1e-12);
     }
     return wells;

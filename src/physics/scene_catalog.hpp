@@ -1,6 +1,7 @@
 // What the edge of the program (spec validation, `contactsweep scenes`, HDF5 attributes) needs
-// to know about a scene at run time. The compile-time side of a scene (its K) lives in the
-// scene's own header; both are tied together by one registration in scene_catalog.cpp.
+// to know about a scene at run time. A built-in scene has one source, its entry in
+// physics/scenes.toml: the build generates from it both this description
+// (scene_catalog_data.cpp) and the scene's header with K (formula/scene_catalog_gen.cpp).
 #pragma once
 
 #include <optional>
@@ -22,6 +23,16 @@ struct VariableInfo {
   std::string description;
 };
 
+// How the attractor table labels a scene's attractors (engine/label_rule.hpp). `numbered`: 1..n
+// in the table's order (period, then point), for any scene. `sign_of_q1`: −1 and +1 by the sign
+// of the attractor's first position, for a scene known to have one attractor on either side of
+// q1 = 0; `negative` and `positive` name them in the file's flag_meanings.
+struct LabelRule {
+  enum class Kind { numbered, sign_of_q1 };
+  Kind kind = Kind::numbered;
+  std::string negative, positive;
+};
+
 struct SceneInfo {
   std::string name;          // spec name: damped_oscillator, ...
   std::string paper_label;   // "A".."D"
@@ -34,9 +45,13 @@ struct SceneInfo {
   bool z_feeds_back;         // does z enter the (q, p) dynamics?
   double default_h;
   double default_t_end;
+  LabelRule label_rule{};    // how its basins are labelled
 };
 
 const std::vector<SceneInfo>& scene_catalog();
+
+// The built-in scenes' entries, generated from physics/scenes.toml (scene_catalog_data.cpp).
+std::vector<SceneInfo> builtin_scene_infos();
 
 // nullptr when no scene has that name.
 const SceneInfo* find_scene(std::string_view name);

@@ -13,6 +13,9 @@
 // and optionally
 //   static constexpr bool p_in_forces = true      when K_q or K_z depend on p;
 //   static constexpr bool time_dependent = true   when K reads the time t(x).
+//   static void natural_frequencies(const Params<double>& c, double* omega)
+//        ω per degree of freedom: the default frequencies of measures.sync, which scale p_k in
+//        the phase θ_k = atan2(−p_k/ω_k, q_k) (1 without it).
 // A lane's time is t_start + n·h from its own step count n (never accumulated), so it is the same
 // bits wherever the lane runs; each method evaluates K at the times its derivation asks for.
 //
@@ -92,6 +95,14 @@ template <Scene S>
 constexpr bool time_dependent() {
   if constexpr (requires { S::time_dependent; }) return S::time_dependent;
   else return false;
+}
+
+// ω_k for the sync measure's phases: the scene's own (natural_frequencies), else 1.
+template <Scene S>
+void natural_frequencies(const typename S::template Params<double>& c, double* omega) {
+  if constexpr (requires { S::natural_frequencies(c, omega); }) S::natural_frequencies(c, omega);
+  else
+    for (int k = 0; k < S::dof; ++k) omega[k] = 1.0;
 }
 
 template <Scene S, class T>

@@ -1,5 +1,6 @@
 // Runs a spec through the engine without MPI or HDF5 and returns every dataset by name, as
-// doubles in row-major grid order (times the trajectory length for traj_* datasets).
+// doubles in row-major grid order (times the trajectory length for traj_* datasets). Basin
+// labels are the attractor table's, as a run writes them (parallel/basin_summary.cpp).
 #pragma once
 
 #include <map>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/attractor_table.hpp"
 #include "engine/run_plan.hpp"
 #include "io/spec_parser.hpp"
 
@@ -25,14 +27,25 @@ inline Datasets run_in_memory(const std::string& toml, const std::vector<std::st
   for (const auto& plan : slices) {
     const std::int64_t begin = plan->point_offset, end = begin + plan->grid.size();
     const std::int64_t size = block > 0 ? block : end - begin;
+    std::vector<BlockResults> blocks;
     for (std::int64_t b = begin; b < end; b += size) {
-      BlockResults r({b, std::min(end, b + size)}, plan->columns);
-      run_block(*plan, r);
+      blocks.emplace_back(PointRange{b, std::min(end, b + size)}, plan->columns);
+      run_block(*plan, blocks.back());
+    }
+    if (plan->map.basin >= 0) {
+      std::vector<double> candidates;
+      for (const auto& r : blocks) {
+        const std::vector<double> c = block_candidates(*plan, r);
+        candidates.insert(candidates.end(), c.begin(), c.end());
+      }
+      const AttractorTable table = merge_candidates(*plan, candidates);
+      for (auto& r : blocks) label_block(*plan, table.attractors, r);
+    }
+    for (const auto& r : blocks)
       for (std::size_t k = 0; k < plan->columns.size(); ++k) {
         auto& v = out[plan->columns[k].dataset.name];
         v.insert(v.end(), r.columns[k].begin(), r.columns[k].end());
       }
-    }
   }
   return out;
 }

@@ -1,0 +1,20 @@
+// The labels of a run's attractors, by the scene's rule (SceneInfo::label_rule): numbers 1..n in
+// the table's order for any scene, or a scene's own meaning (the double well's −1/+1 for its
+// left and right wells). A rule that cannot label the attractors found (two on one side, one
+// at q1 = 0: the saddle of a lane that started on it, a cycle) never mislabels: the table is
+// numbered instead, and the file and the log say why (BasinSummary::labels).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/attractor_table.hpp"
+#include "physics/scene_catalog.hpp"
+
+namespace cs {
+
+// Sets every attractor's label in `table` (in its sorted order). `first_position` names q1.
+Labelling apply_label_rule(const LabelRule& rule, const std::string& first_position,
+                           std::vector<Attractor>& table);
+
+}  // namespace cs

@@ -1,0 +1,154 @@
+// A lane's books (what travels with it from one tile to the other) and how its results are
+// written into the block's columns: trajectory samples as they come, everything else when it
+// finishes.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "engine/mappers/basin_mapper.hpp"
+#include "engine/run_plan.hpp"
+#include "engine/sync_tracker.hpp"
+#include "numerics/lane_state.hpp"
+#include "physics/energy_wells.hpp"
+#include "physics/partials.hpp"
+
+namespace cs {
+
+template <int D>
+struct LaneBook {
+  std::int64_t point = -1;  // −1: empty slot
+  std::int64_t n = 0;       // steps done
+  bool non_finite = false;  // a trajectory sample written was not finite
+  Settlement<2 * D> basin;  // where a basin mapper settled it
+  std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
+  SyncTracker sync;
+};
+
+template <Scene S>
+class LaneWriter {
+  static constexpr int D = S::dof;
+  static constexpr int N = 2 * D;
+  static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
+  using Params = ParamsOf<S, double>;
+  using Book = LaneBook<D>;
+
+ public:
+  LaneWriter(const RunPlan& plan, BlockResults& out) : plan_(plan), out_(out) {}
+
+  void record_sample(Book& b, std::int64_t sample, const LaneState<D>& x, const Params& c) {
+    double v[kMaxVars], H;
+    state_values(x, c, v, H);
+    const auto& map = plan_.map;
+    bool finite = true;
+    for (int k = 0; k < kMaxVars; ++k)
+      if (map.traj_vars[k] >= 0) {
+        column(map.traj_vars[k], b.point)[sample] = v[k];
+        finite = finite && std::isfinite(v[k]);
+      }
+    if (map.traj_H >= 0) {
+      column(map.traj_H, b.point)[sample] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (!finite) b.non_finite = true;
+  }
+
+  // Writes a lane's results. A lane that ran (status ok) but wrote a value that is not finite
+  // where the dataset promises one (ln λ or H overflowing, z where K is undefined along the
+  // path) is flagged non_finite: its values are written as computed, its basin kept (decided on
+  // q and p, which are finite), and no cell with a non-finite value reads ok.
+  void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status,
+              TrapVerdict verdict) {
+    const auto& map = plan_.map;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    auto k = b.point;
+    out_.lane_steps += b.n;
+    double v[kMaxVars], H;
+    state_values(x, c, v, H);
+    if (status == LaneStatus::breakdown || status == LaneStatus::undefined_at_start) {
+      for (auto& value : v) value = nan;
+      H = nan;
+    }
+    bool finite = !b.non_finite;
+    for (int i = 0; i < kMaxVars; ++i)
+      if (map.final_vars[i] >= 0) {
+        column(map.final_vars[i], k)[0] = v[i];
+        finite = finite && std::isfinite(v[i]);
+      }
+    if (map.final_H >= 0) {
+      column(map.final_H, k)[0] = H;
+      finite = finite && std::isfinite(H);
+    }
+    if (map.sync_r >= 0) finite = finish_sync(b, status) && finite;
+    if (map.basin >= 0) finish_basin(b, status);
+    if (map.trap_verdict >= 0) column(map.trap_verdict, k)[0] = static_cast<double>(verdict);
+    if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
+    column(map.status, k)[0] = static_cast<double>(status);
+    if (plan_.samples > 0 && status != LaneStatus::ok) {
+      // A failed lane's trajectory ends where it failed: every sample not recorded while it was
+      // healthy is NaN, including one due at the look that found it failed (b.n).
+      for (auto s = b.samples_recorded; s < plan_.samples; ++s) {
+        for (int i = 0; i < kMaxVars; ++i)
+          if (map.traj_vars[i] >= 0) column(map.traj_vars[i], k)[s] = nan;
+        if (map.traj_H >= 0) column(map.traj_H, k)[s] = nan;
+      }
+    }
+  }
+
+ private:
+  double* column(int c, std::int64_t point) {
+    auto& col = out_.columns[static_cast<std::size_t>(c)];
+    auto width = plan_.columns[static_cast<std::size_t>(c)].width;
+    return col.data() + (point - out_.range.begin) * width;
+  }
+
+  void state_values(const LaneState<D>& x, const Params& c, double* v, double& H) const {
+    for (int d = 0; d < D; ++d) v[d] = x.q[d], v[D + d] = x.p[d];
+    v[2 * D] = x.z;
+    const double log_lambda_now = log_lambda<S>(x);
+    v[2 * D + 1] = log_lambda_now;
+    // λK in the log domain: late in a damped run λ overflows while K underflows.
+    double k = K<S>(x.q, x.p, x.z, c, x.t);
+    H = k == 0.0 ? 0.0 : std::copysign(std::exp(log_lambda_now + std::log(std::fabs(k))), k);
+  }
+
+  // The label is provisional here (1: settled): the attractor table, built once every block is
+  // done (attractor_table.hpp), labels the attractors and relabels the lanes.
+  void finish_basin(const Book& b, LaneStatus status) {
+    const auto& map = plan_.map;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const bool ok = status == LaneStatus::ok && b.basin.settled;
+    double* point = column(map.basin_point, b.point);
+    for (int k = 0; k <= N; ++k) point[k] = nan;
+    if (ok) {
+      for (int k = 0; k < N; ++k) point[k] = b.basin.point[static_cast<std::size_t>(k)];
+      point[N] = b.basin.period;
+    }
+    column(map.basin, b.point)[0] = ok ? 1.0 : 0.0;
+    column(map.settle_time, b.point)[0] = ok ? b.basin.settle_time : nan;
+  }
+
+  // False if a value it wrote is not finite where one exists (the frequency ratio of an
+  // oscillator at rest, sync_amplitude = 0, does not).
+  bool finish_sync(const Book& b, LaneStatus status) {
+    const auto& map = plan_.map;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::int64_t n0 = plan_.sync_first_step, n1 = plan_.sync_last_step;
+    SyncResult r{nan, nan, nan, nan};
+    if (status == LaneStatus::ok && b.n >= n1)
+      r = b.sync.result(static_cast<double>(n1 - n0) * plan_.spec.h);
+    column(map.sync_r, b.point)[0] = r.r;
+    column(map.sync_phase_drift, b.point)[0] = r.phase_drift;
+    column(map.sync_freq_ratio, b.point)[0] = r.freq_ratio;
+    column(map.sync_amplitude, b.point)[0] = r.amplitude;
+    if (!(status == LaneStatus::ok && b.n >= n1)) return true;  // nothing measured
+    return std::isfinite(r.r) && std::isfinite(r.phase_drift) && std::isfinite(r.amplitude) &&
+           (std::isfinite(r.freq_ratio) || r.amplitude == 0.0);
+  }
+
+  const RunPlan& plan_;
+  BlockResults& out_;
+};
+
+}  // namespace cs

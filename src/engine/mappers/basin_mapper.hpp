@@ -1,0 +1,70 @@
+// Basin mappers: how a lane's attractor is recognised on line (Attractors.jl's AttractorMapper).
+// Each mapper is one file in this folder; the block runner knows them only through MapperSet
+// (mapper_set.hpp), which calls them in a fixed order, and every mapper writes the same thing
+// when a lane settles: a point of its attractor and the period (Settlement). What is computed on
+// the settled points is written once for all mappers: the attractor table and its labels
+// (attractor_table.cpp, label_rule.hpp), fractions and statistics (basin_statistics.cpp).
+//
+// A mapper M, built from the plan (RunPlan) and the runner's uniform parameters, provides
+//   bool active() const                   whether this run uses it (the others cost nothing);
+//   void clear(int slot)                  the slot is empty: forget its lane;
+//   void look(int slot, std::int64_t n, const LaneState<D>& x, const Params& c, Settlement& s)
+//        scalar: the healthy lane in `slot` at step n, not settled yet; may settle it. Called at
+//        load (n = 0), whenever the screen flags the lane, at the lane's due looks, and in the
+//        finisher at t_end;
+//   void arm(int slot, const LaneState<D>& x, const Params& c, const Settlement& s)
+//        after the look at load: the per-lane state its screen reads (main slots only);
+//   template <class Tile> void screen(const Tile& t, LookInt* attention)
+//        vectorised over the main tile after each chunk: ORs into attention[i] the lanes it must
+//        look at. Its per-lane state is kept here, structure of arrays, one entry per main slot,
+//        so that the loop vectorises like the step (branch-free, no lane reads another);
+//   void disarm(int slot)                 the lane settled (by any mapper), or its settlement was
+//                                         refused: stop screening it;
+//   bool refuses(const Settlement& s, const Params& c) const
+//        whether a point another mapper settled on is known to be no attractor (the energy
+//        trap knows V's saddles); the settlement is then undone;
+//   void move(int from, int to)           a lane moves from main slot `from` to finisher slot
+//                                         `to` (W + j): per-lane state that a look needs;
+//   std::int64_t next_look(std::int64_t n) const
+//        the step at which the mapper must next see a lane that is at step n (a sample it takes
+//        on a schedule); INT64_MAX if none. Looks fall on multiples of the chunk.
+// Slots 0 … W−1 are the main tile's, W … 2W−1 the finisher's (which is never screened).
+//
+// A lane's arithmetic stays its own: nothing a mapper keeps for one lane depends on another, so
+// settlements are the same bits for any cut of the grid into blocks, ranks and threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "engine/run_plan.hpp"
+
+namespace cs {
+
+// The integer type of the looks' per-lane flags and countdowns (BlockRunner::screen()). With
+// AVX2 they are as wide as the doubles they come from, so the vector loop packs no 64-bit compare
+// masks into 32-bit lanes: the looks' share of the 512² basin map went from 6.8 to 5.7 % (Zen 4,
+// perf). AVX-512 compares into mask registers, which pack for free; there 64-bit flags only
+// double the arrays (7.2–8.1 % against 6.7–7.3 %, four runs each). Only speed depends on it.
+#ifdef __AVX512F__
+using LookInt = std::int32_t;
+#else
+using LookInt = std::int64_t;
+#endif
+
+// Where a lane settled: what every mapper writes (RunPlan's internal column basin_point).
+template <int N>
+struct Settlement {
+  bool settled = false;
+  int period = 0;                // of the cycle (1: a fixed point)
+  std::array<double, N> point{};  // q.., p..: the attractor's point, angles reduced
+  double settle_time = 0.0;
+};
+
+// A lane's time after n steps, computed as the kernel does (lane_tile.hpp).
+struct LaneClock {
+  double t_start = 0.0, h = 0.0;
+  double at(std::int64_t n) const { return t_start + static_cast<double>(n) * h; }
+};
+
+}  // namespace cs

@@ -1,0 +1,116 @@
+// The basin mappers of a run, called in one fixed order (the first that settles a lane wins):
+// the anchor test at every look, or the stroboscopic cycles when measures.basin.period is given;
+// and the energy trap wherever K has one (unless measures.basin.exact_trap = false). A new mapper is one more file in this folder
+// and one more member here; the block runner calls only this set (basin_mapper.hpp).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
+#include "engine/mappers/anchor_test.hpp"
+#include "engine/mappers/basin_mapper.hpp"
+#include "engine/mappers/energy_trap.hpp"
+#include "engine/mappers/stroboscopic_cycles.hpp"
+
+namespace cs {
+
+template <Scene S, bool Uniform, int W>
+class MapperSet {
+  static constexpr int D = S::dof;
+  static constexpr int N = 2 * D;
+  using Params = ParamsOf<S, double>;
+
+ public:
+  MapperSet(const RunPlan& plan, LaneClock clock, const Params& uniform)
+      : anchors_(plan, autonomous(plan), clock),
+        trap_(plan, mapping(plan) && plan.spec.measures.basin->exact_trap, clock, uniform),
+        strobe_(plan, mapping(plan) && !autonomous(plan), clock) {}
+
+  void clear(int slot) {
+    each([&](auto& m) { m.clear(slot); });
+  }
+
+  // A healthy lane at step n: each mapper in turn, until one settles it. A settlement another
+  // mapper refuses (it knows the point is no attractor) is undone, and the mapper that made it
+  // stops looking at the lane.
+  template <class Lane>
+  void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
+    each([&](auto& m) {
+      if (s.settled) return;
+      m.look(slot, n, x, c, s);
+      if (s.settled && refused(s, c)) {
+        s = Settlement<N>{};
+        m.disarm(slot);
+      }
+    });
+    // A lane in a well the trap missed: the anchor test finds where it settles, from here.
+    if (trap_.active() && trap_.take_lost() && anchors_.active() && !anchors_.armed(slot))
+      anchors_.arm(slot, x, c, s);
+  }
+
+  // After the look at load; a lane settled at once is never screened. The anchor test is not
+  // armed for a lane the energy trap alone decides (EnergyTrap::decides_alone): its screen then
+  // costs nothing where every lane is the trap's (the double well's map).
+  template <class Lane>
+  void arm(int slot, const Lane& x, const Params& c, const Settlement<N>& s) {
+    if (s.settled) return;
+    if (anchors_.active() && !(trap_.active() && trap_.decides_alone(x, c)))
+      anchors_.arm(slot, x, c, s);
+    if (trap_.active()) trap_.arm(slot, x, c, s);
+    if (strobe_.active()) strobe_.arm(slot, x, c, s);
+  }
+
+  void disarm(int slot) {
+    each([&](auto& m) { m.disarm(slot); });
+  }
+
+  template <class Tile>
+  void screen(const Tile& t, LookInt* attention) {
+    each([&](auto& m) { m.screen(t, attention); });
+  }
+
+  void move(int from, int to) {
+    each([&](auto& m) { m.move(from, to); });
+  }
+
+  std::int64_t next_look(std::int64_t n) const {
+    std::int64_t next = std::numeric_limits<std::int64_t>::max();
+    each([&](const auto& m) { next = std::min(next, m.next_look(n)); });
+    return next;
+  }
+
+  TrapVerdict trap_verdict(const Params& c) const { return trap_.verdict(c); }
+
+ private:
+  static bool mapping(const RunPlan& plan) { return plan.map.basin >= 0; }
+  static bool autonomous(const RunPlan& plan) {
+    return mapping(plan) && !plan.spec.measures.basin->period.has_value();
+  }
+
+  bool refused(const Settlement<N>& s, const Params& c) const {
+    bool refused = false;
+    each([&](const auto& m) { refused = refused || m.refuses(s, c); });
+    return refused;
+  }
+
+  // The active mappers, in order.
+  template <class F>
+  void each(F&& f) {
+    if (anchors_.active()) f(anchors_);
+    if (trap_.active()) f(trap_);
+    if (strobe_.active()) f(strobe_);
+  }
+  template <class F>
+  void each(F&& f) const {
+    if (anchors_.active()) f(anchors_);
+    if (trap_.active()) f(trap_);
+    if (strobe_.active()) f(strobe_);
+  }
+
+  AnchorTest<D, W> anchors_;
+  EnergyTrap<S, Uniform, W> trap_;
+  StroboscopicCycles<D, W> strobe_;
+};
+
+}  // namespace cs

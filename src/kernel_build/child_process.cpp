@@ -1,0 +1,78 @@
+#include "kernel_build/child_process.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+extern char** environ;
+
+namespace cs {
+
+int run_program(const std::vector<std::string>& args, int output_fd,
+                const std::vector<std::string>& extra_env) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text(extra_env);
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry = *e;
+    const bool overridden = std::any_of(extra_env.begin(), extra_env.end(), [&](const auto& x) {
+      return entry.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0;
+    });
+    if (!overridden) env_text.push_back(entry);
+  }
+  std::vector<char*> envp;
+  for (auto& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+
+  int exec_error[2];  // the child reports a failed exec here; closed on a successful one
+  if (::pipe2(exec_error, O_CLOEXEC) != 0)
+    throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(errno));
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int error = errno;
+    ::close(exec_error[0]);
+    ::close(exec_error[1]);
+    throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(error));
+  }
+  if (pid == 0) {  // only async-signal-safe calls from here on
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
+    ::dup2(output_fd, 1);
+    ::dup2(output_fd, 2);
+    ::execvpe(argv[0], argv.data(), envp.data());
+    const int error = errno;
+    [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);
+    ::_exit(127);
+  }
+  ::close(exec_error[1]);
+  int child_error = 0;
+  ssize_t got;
+  while ((got = ::read(exec_error[0], &child_error, sizeof child_error)) < 0 && errno == EINTR) {
+  }
+  ::close(exec_error[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (got == static_cast<ssize_t>(sizeof child_error))
+    throw std::runtime_error(fmt::format(
+        "cannot run the C++ compiler '{}' to build the kernel of scene.K: {}{}", args[0],
+        std::strerror(child_error),
+        child_error == ENOENT
+            ? ". contactsweep compiles each new K once (then caches it); install g++ or point "
+              "CONTACTSWEEP_CXX at a C++20 compiler"
+            : ""));
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace cs
