@@ -13,6 +13,7 @@
 #include "numerics/hybrid_leapfrog.hpp"
 #include "numerics/rk4.hpp"
 #include "numerics/symmetric_leapfrog.hpp"
+#include "formula/custom_scene.hpp"
 #include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 
 namespace cs {
@@ -142,6 +143,26 @@ int RunPlan::add_column(DatasetSpec dataset, std::int64_t width, bool internal) 
   return static_cast<int>(columns.size() - 1);
 }
 
+namespace {
+
+// Whether K = Σp²/2 + V(q) + k·z without t (the energy trap's form): E = K(q, p, 0) changes as
+// k·|p|², so with k < 0 every orbit ends where p = 0 and forces vanish (LaSalle): at fixed
+// points, which the anchor test and the trap find; with k ≥ 0 there is no attractor at all.
+template <class... Scenes>
+bool builtin_fixed_points_only(const std::string& name, SceneList<Scenes...>) {
+  return ((name == Scenes::name && has_energy_trap<Scenes>()) || ...);
+}
+
+bool fixed_points_only(const RunSpec& spec, const SceneInfo& scene) {
+  if (spec.custom) {
+    const KTraits& traits = spec.custom->formula.traits;
+    return traits.z_part == ZPart::linear && !traits.time_dependent;
+  }
+  return builtin_fixed_points_only(scene.name, BuiltinScenes{});
+}
+
+}  // namespace
+
 void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   auto add = [&](DatasetSpec d, std::int64_t width = 1, bool internal = false) {
     return add_column(std::move(d), width, internal);
@@ -184,6 +205,13 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   for (int k = 0; k < phase_space; ++k) {
     auto it = basin.angles.find(scene.variables[static_cast<std::size_t>(k)].name);
     if (it != basin.angles.end()) a.angle_period[static_cast<std::size_t>(k)] = it->second;
+  }
+  recurrence = plan_recurrence(spec, scene, fixed_points_only(spec, scene), a.angle_period);
+  if (recurrence.enabled) {
+    map.basin_cells = add({"basin_cells", ElementType::float64, false, "", "", {}, "", std::nullopt},
+                          RecurrenceSearch::kRecordWidth, true);
+    map.undecided_reason = add(
+        {"undecided_reason", ElementType::float64, false, "", "", {}, "", std::nullopt}, 1, true);
   }
 }
 

@@ -14,6 +14,13 @@
 
 namespace cs {
 
+// The number of cells along a variable: [lower, upper) cut into cells of `cell_size` (the last
+// may reach past upper), or an angle's period cut into a whole number of cells of about that size.
+inline double cells_along(double lower, double upper, double cell_size, double period) {
+  if (period > 0.0) return std::fmax(1.0, std::nearbyint(period / cell_size));
+  return std::ceil((upper - lower) / cell_size);
+}
+
 template <int N>
 class CellGrid {
  public:
@@ -34,15 +41,13 @@ class CellGrid {
         throw std::invalid_argument("cell size of variable " + std::to_string(k) +
                                     " must be positive and finite");
       period_[k] = angle_period[k] > 0.0 ? angle_period[k] : 0.0;
-      double cells;
+      const double cells = cells_along(lower[k], upper[k], cell_size[k], period_[k]);
       if (period_[k] > 0.0) {
-        cells = std::fmax(1.0, std::nearbyint(period_[k] / cell_size[k]));
         lower_[k] = 0.0;
         size_[k] = period_[k] / cells;
       } else {
         if (!(upper[k] > lower[k]) || !std::isfinite(upper[k] - lower[k]))
           throw std::invalid_argument("empty box for variable " + std::to_string(k));
-        cells = std::ceil((upper[k] - lower[k]) / cell_size[k]);
         lower_[k] = lower[k];
         size_[k] = cell_size[k];
       }
