@@ -17,7 +17,8 @@ candidates of several blocks, and of two ranks, are merged, and:
     at the centre of the cell holding 0;
   * the file is the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads;
   * undecided lanes say why: with t_end too short for `recurrences` revisits every lane is
-    "no recurrence by t_end"; with a box the cycle never enters, every lane "left the box".
+    "no recurrence by t_end"; with a box the cycle never enters, every lane "left the box"; a
+    `period` given for this K without t is named as the likely mistake.
 """
 import os
 import subprocess
@@ -99,7 +100,7 @@ if out:
         for p in ("p1", "p2"):
             check(f"its {p} is the centre of the cell holding 0",
                   abs(f["attractor_" + p][0]) <= cell / 2, f"{f['attractor_' + p][0]}")
-        check("nothing undecided", f.attrs.get("basin_undecided") == "none",
+        check("nothing undecided, nothing to explain", "basin_undecided" not in f.attrs,
               f"{f.attrs.get('basin_undecided')}")
     for ranks, threads in ((0, 2), (2, 1)):
         name = f"vdp_{max(ranks, 1)}x{threads}"
@@ -118,6 +119,13 @@ if short:
               np.all(f["basin"][...] == 0) and why.startswith("1024 cells: 1024 no recurrence by t_end"),
               f"{why}")
         check("the log names the reason", "no recurrence by t_end" in log, log[-500:])
+# A period given for an autonomous K is named as the likely mistake.
+strobe, _ = run(VDP.format(t_end=30.0, basin="{ period = 5.0 }"), "vdp_period")
+if strobe:
+    with h5py.File(strobe, "r") as f:
+        why = f.attrs.get("basin_undecided", "")
+        check("period for a K without t: diagnosed",
+              "period is given but K does not depend on t" in why, why)
 # A box the cycle never enters: every lane is outside from its first samples.
 away, _ = run(VDP.format(t_end=T_END, basin="{ locate = 300, box = { q1 = [5.0, 6.0] } }"),
               "vdp_box")

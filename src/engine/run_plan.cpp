@@ -153,6 +153,16 @@ bool builtin_fixed_points_only(const std::string& name, SceneList<Scenes...>) {
   return ((name == Scenes::name && has_energy_trap<Scenes>()) || ...);
 }
 
+template <class... Scenes>
+bool builtin_reads_t(const std::string& name, SceneList<Scenes...>) {
+  return ((name == Scenes::name && time_dependent<Scenes>()) || ...);
+}
+
+bool reads_t(const RunSpec& spec, const SceneInfo& scene) {
+  if (spec.custom) return spec.custom->formula.traits.time_dependent;
+  return builtin_reads_t(scene.name, BuiltinScenes{});
+}
+
 bool fixed_points_only(const RunSpec& spec, const SceneInfo& scene) {
   if (spec.custom) {
     const KTraits& traits = spec.custom->formula.traits;
@@ -207,6 +217,7 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
     if (it != basin.angles.end()) a.angle_period[static_cast<std::size_t>(k)] = it->second;
   }
   recurrence = plan_recurrence(spec, scene, fixed_points_only(spec, scene), a.angle_period);
+  recurrence.period_on_autonomous = basin.period.has_value() && !reads_t(spec, scene);
   if (recurrence.enabled) {
     map.basin_cells = add({"basin_cells", ElementType::float64, false, "", "", {}, "", std::nullopt},
                           RecurrenceSearch::kRecordWidth, true);

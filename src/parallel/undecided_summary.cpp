@@ -43,8 +43,15 @@ std::string undecided_reasons(const RunPlan& whole,
     total += counts[r];
     parts.push_back(fmt::format("{} {}", counts[r], what[r]));
   }
-  if (total == 0) return "none";
-  return fmt::format("{} cells: {}", total, fmt::join(parts, "; "));
+  if (total == 0) return "";  // nothing to explain: the file stays as it was without the mapper
+  std::string text = fmt::format("{} cells: {}", total, fmt::join(parts, "; "));
+  if (whole.recurrence.period_on_autonomous)
+    text +=
+        "; measures.basin.period is given but K does not depend on t: the system is "
+        "autonomous, and its samples one period apart meet a limit cycle at another phase "
+        "each time (no cycle of the stroboscopic map): leave period out to sample at every "
+        "look";
+  return text;
 }
 
 }  // namespace cs

@@ -14,8 +14,8 @@
 
 namespace cs {
 
-// Collective; after the blocks are labelled. "none" when every lane settled; "" when the run
-// does not record reasons.
+// Collective; after the blocks are labelled. "" when every lane settled or the run does not
+// record reasons.
 std::string undecided_reasons(const RunPlan& whole,
                               const std::vector<std::unique_ptr<BlockResults>>& results,
                               MPI_Comm comm);

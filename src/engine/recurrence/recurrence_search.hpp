@@ -15,7 +15,8 @@ namespace cs {
 
 struct RecurrenceSearch {
   bool enabled = false;
-  std::string why_off;  // when not enabled: why
+  std::string why_off;                // when not enabled: why
+  bool period_on_autonomous = false;  // measures.basin.period given, but K does not read t
   // Per phase-space variable q.., p..: the box, the cells' side (an angle's: its period over a
   // whole number of cells), the number of cells, the angle's period (0: not an angle).
   std::vector<double> lower, upper, cell_size, angle_period;
