@@ -8,6 +8,8 @@
 # rebuilt). The snapshot holds a copy of every header and HEADERS_SHA256, a hash of them all;
 # the same hash is compiled into the binary (HASH_HEADER), enters the kernel cache's key, and
 # is compared with the snapshot's before any kernel is compiled (kernel_build/kernel_cache.cpp).
+include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/write_if_changed.cmake)
+
 file(GLOB_RECURSE source_headers RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/*.hpp)
 file(GLOB_RECURSE generated_headers RELATIVE ${GENERATED_DIR} ${GENERATED_DIR}/*.hpp)
 set(headers ${source_headers} ${generated_headers})
@@ -42,10 +44,4 @@ if(NOT old_hash STREQUAL hash)
 endif()
 
 set(text "// Written at build time by kernel_build/snapshot_headers.cmake.\n#pragma once\n\nnamespace cs {\n// SHA-256 over the headers (path and SHA-256 of each) that kernels of K are compiled against.\ninline constexpr const char* kKernelHeadersHash = \"${hash}\";\n}  // namespace cs\n")
-set(current "")
-if(EXISTS ${HASH_HEADER})
-  file(READ ${HASH_HEADER} current)
-endif()
-if(NOT current STREQUAL text)
-  file(WRITE ${HASH_HEADER} "${text}")
-endif()
+write_if_changed(${HASH_HEADER} "${text}")

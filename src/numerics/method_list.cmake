@@ -6,6 +6,8 @@
 # check that each type exists and that its description.name is its file's name.
 #
 # In:  METHODS_DIR (src/numerics/methods), METHOD_LIST_HEADER (the file to write).
+include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/write_if_changed.cmake)
+
 file(GLOB method_files CONFIGURE_DEPENDS RELATIVE ${METHODS_DIR} ${METHODS_DIR}/*.hpp)
 list(SORT method_files)  # a stable order: by file name (the catalog sorts by catalog_position)
 
@@ -50,10 +52,4 @@ using Methods = MethodList<${type_list}>;
 
 ${sources}}  // namespace cs
 ")
-set(current "")
-if(EXISTS ${METHOD_LIST_HEADER})
-  file(READ ${METHOD_LIST_HEADER} current)
-endif()
-if(NOT current STREQUAL text)
-  file(WRITE ${METHOD_LIST_HEADER} "${text}")
-endif()
+write_if_changed(${METHOD_LIST_HEADER} "${text}")
