@@ -22,11 +22,11 @@ struct MethodDescription {
   // Where `contactsweep methods` and the spec errors list the method (ascending, ties by name):
   // a list ordered for the reader (the paper's method first), not by file name.
   int catalog_position = 0;
-  int order = 0;                           // of convergence
-  std::string_view properties;             // one line for `contactsweep methods`
+  int order = 0;                                          // of convergence
+  std::string_view properties;                            // one line for `contactsweep methods`
   std::span<const std::string_view> needs_split_parts{};  // empty: works on any scene
   int force_evaluations_per_step = 0;
-  std::string_view documentation;          // when to choose it (README, "Which method when")
+  std::string_view documentation;  // when to choose it (README, "Which method when")
 };
 
 // A method's C++ type and header, as the run-time kernel source spells them: written for every

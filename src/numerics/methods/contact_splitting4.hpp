@@ -21,9 +21,10 @@ struct YoshidaComposition4 {
       .properties = "Yoshida triple jump of contact_splitting2 (3 stages); contact map; H bounded",
       .needs_split_parts = kSplitFlowParts,
       .force_evaluations_per_step = 3,
-      .documentation = "Has the smallest stability limit (h < 1.57 on scene A) and was never the "
-                       "cheapest in the work-precision runs: rk4 beats it at every tolerance, "
-                       "contact_splitting6 from 1e-4 down. Kept as the classical composition.",
+      .documentation =
+          "Has the smallest stability limit (h < 1.57 on scene A) and was never the "
+          "cheapest in the work-precision runs: rk4 beats it at every tolerance, "
+          "contact_splitting6 from 1e-4 down. Kept as the classical composition.",
   };
 };
 

@@ -22,9 +22,10 @@ struct YoshidaComposition6 {
       .properties = "Yoshida's 7-stage solution A over contact_splitting2; contact map; H bounded",
       .needs_split_parts = kSplitFlowParts,
       .force_evaluations_per_step = 7,
-      .documentation = "For tight accuracy (1e-6 and below) or long runs: the cheapest there, "
-                       "with H bounded to 1e-11; at h = 0.1 a basin map with half the wrong "
-                       "cells of the hybrid leap-frog at h = 0.01, at the same cost.",
+      .documentation =
+          "For tight accuracy (1e-6 and below) or long runs: the cheapest there, "
+          "with H bounded to 1e-11; at h = 0.1 a basin map with half the wrong "
+          "cells of the hybrid leap-frog at h = 0.01, at the same cost.",
   };
 };
 
