@@ -8,12 +8,6 @@
 #include <fmt/format.h>
 
 #include "engine/attractor_table.hpp"
-#include "engine/block_runner.hpp"
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
-#include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 
 namespace cs {
 namespace {
@@ -209,51 +203,6 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
     specs.push_back(std::move(slice));
   }
   return plans;
-}
-
-// ---- dispatch: the one place where run-time names meet template instantiations ------------
-
-namespace {
-
-template <Scene S, class Method>
-void run_with(const RunPlan& plan, BlockResults& results) {
-  auto go = [&]<Carry carry>() {
-    if (plan.grid.uniform_parameters())
-      std::make_unique<BlockRunner<S, Method, carry, true>>(plan, results)->run();
-    else
-      std::make_unique<BlockRunner<S, Method, carry, false>>(plan, results)->run();
-  };
-  if (plan.carry.mu) go.template operator()<Carry{true, true}>();
-  else if (plan.carry.z) go.template operator()<Carry{true, false}>();
-  else go.template operator()<Carry{false, false}>();
-}
-
-// The built-in scene of that name (BuiltinScenes: the catalog's list), run with Method.
-template <class Method, class... Scenes>
-void run_scene(const RunPlan& plan, BlockResults& results, SceneList<Scenes...>) {
-  const bool found = ((plan.scene.name == Scenes::name
-                           ? (run_with<Scenes, Method>(plan, results), true)
-                           : false) || ...);
-  if (!found) throw std::logic_error("no kernel for scene " + plan.scene.name);
-}
-
-template <class Method>
-void run_scene(const RunPlan& plan, BlockResults& results) {
-  run_scene<Method>(plan, results, BuiltinScenes{});
-}
-
-}  // namespace
-
-void run_block(const RunPlan& plan, BlockResults& results) {
-  if (plan.custom_kernel != nullptr) return plan.custom_kernel(plan, results);
-  const auto& method = plan.method.name;
-  if (method == "hybrid_leapfrog") return run_scene<HybridLeapfrog>(plan, results);
-  if (method == "symmetric_leapfrog") return run_scene<SymmetricLeapfrog>(plan, results);
-  if (method == "contact_splitting2") return run_scene<ContactSplitting2>(plan, results);
-  if (method == "contact_splitting4") return run_scene<ContactSplitting4>(plan, results);
-  if (method == "contact_splitting6") return run_scene<ContactSplitting6>(plan, results);
-  if (method == "rk4") return run_scene<Rk4>(plan, results);
-  throw std::logic_error("no kernel for method " + method);
 }
 
 }  // namespace cs
