@@ -7,10 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "numerics/method_list.hpp"
 #include "engine/run_plan.hpp"
 #include "io/linspace.hpp"
 #include "physics/double_well.hpp"
@@ -84,12 +81,7 @@ void expect_margin_covers_twice() {
 }
 
 TEST(BasinTrap, MarginCoversTheEnergyRiseOfEveryMethodTwice) {
-  expect_margin_covers_twice<HybridLeapfrog>();
-  expect_margin_covers_twice<SymmetricLeapfrog>();
-  expect_margin_covers_twice<ContactSplitting2>();
-  expect_margin_covers_twice<ContactSplitting4>();
-  expect_margin_covers_twice<ContactSplitting6>();
-  expect_margin_covers_twice<Rk4>();
+  Methods::for_each([]<class Method>() { expect_margin_covers_twice<Method>(); });
 }
 
 const char* kMap = R"(

@@ -10,7 +10,7 @@
 #include <random>
 
 #include "engine/lane_tile.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
+#include "numerics/methods/hybrid_leapfrog.hpp"
 #include "physics/coupled_oscillators.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"

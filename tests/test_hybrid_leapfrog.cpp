@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "numerics/methods/hybrid_leapfrog.hpp"
+#include "numerics/methods/rk4.hpp"
+#include "numerics/methods/symmetric_leapfrog.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"

@@ -12,15 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
+#include "kernel_build/kernel_source.hpp"
 #include "numerics/method_catalog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "numerics/method_list.hpp"
 #include "physics/coupled_oscillators.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
 #include "physics/z2_damping.hpp"
+#include "support/all_methods.hpp"
 #include "support/exact_damped_oscillator.hpp"
 #include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
@@ -42,59 +41,84 @@ template <class M>
 struct Traits;
 template <>
 struct Traits<HybridLeapfrog> {
-  static constexpr const char* name = "hybrid_leapfrog";
   static constexpr LongTimeH long_time_h = LongTimeH::tested_elsewhere;  // test_hybrid_leapfrog
   static constexpr bool exact_log_lambda = false;
 };
 template <>
 struct Traits<SymmetricLeapfrog> {
-  static constexpr const char* name = "symmetric_leapfrog";
   static constexpr LongTimeH long_time_h = LongTimeH::bounded;
   static constexpr bool exact_log_lambda = false;
 };
 template <>
 struct Traits<ContactSplitting2> {
-  static constexpr const char* name = "contact_splitting2";
   static constexpr LongTimeH long_time_h = LongTimeH::bounded;
   static constexpr bool exact_log_lambda = true;
 };
 template <>
 struct Traits<ContactSplitting4> {
-  static constexpr const char* name = "contact_splitting4";
   static constexpr LongTimeH long_time_h = LongTimeH::bounded;
   static constexpr bool exact_log_lambda = true;
 };
 template <>
 struct Traits<ContactSplitting6> {
-  static constexpr const char* name = "contact_splitting6";
   static constexpr LongTimeH long_time_h = LongTimeH::bounded;
   static constexpr bool exact_log_lambda = true;
 };
 template <>
 struct Traits<Rk4> {
-  static constexpr const char* name = "rk4";
   static constexpr LongTimeH long_time_h = LongTimeH::drifts;
   static constexpr bool exact_log_lambda = true;
 };
 
 template <class M>
 int catalog_order() {
-  const MethodInfo* info = find_method(Traits<M>::name);
-  if (info == nullptr) ADD_FAILURE() << Traits<M>::name << " is not in the method catalog";
+  const MethodInfo* info = find_method(M::description.name);
+  if (info == nullptr) ADD_FAILURE() << M::description.name << " is not in the method catalog";
   return info ? info->order : 0;
 }
 
 template <class M>
-class Methods : public ::testing::Test {};
-using AllMethods = ::testing::Types<HybridLeapfrog, SymmetricLeapfrog, ContactSplitting2,
-                                    ContactSplitting4, ContactSplitting6, Rk4>;
+class EveryMethod : public ::testing::Test {};
+using test::AllMethods;
 struct MethodNames {
   template <class M>
   static std::string GetName(int) {
-    return Traits<M>::name;
+    return std::string(M::description.name);
   }
 };
-TYPED_TEST_SUITE(Methods, AllMethods, MethodNames);
+TYPED_TEST_SUITE(EveryMethod, AllMethods, MethodNames);
+
+// The catalog is built from the generated list: every method once, in the order of their
+// catalog_position (the order `contactsweep methods` and the spec's errors list them).
+TEST(MethodCatalog, ListsEveryMethodOnceInCatalogOrder) {
+  const std::vector<std::string> expected{"hybrid_leapfrog",    "symmetric_leapfrog",
+                                          "contact_splitting2", "contact_splitting4",
+                                          "contact_splitting6", "rk4"};
+  std::vector<std::string> listed;
+  for (const MethodInfo& m : method_catalog()) listed.push_back(m.name);
+  EXPECT_EQ(listed, expected);
+  Methods::for_each([]<class M>() {
+    const MethodInfo* info = find_method(M::description.name);
+    ASSERT_NE(info, nullptr) << M::description.name;
+    EXPECT_EQ(info->order, M::description.order);
+    EXPECT_EQ(info->force_evaluations_per_step, M::description.force_evaluations_per_step);
+    EXPECT_EQ(info->needs_split_parts.size(), M::description.needs_split_parts.size());
+  });
+}
+
+// A kernel compiled at run time names the method's type and header as the generated list
+// spells them (numerics/method_list.hpp): the header must be the method's own file.
+TEST(MethodCatalog, KernelSourceIncludesTheMethodsOwnFile) {
+  Methods::for_each([]<class M>() {
+    const std::string name(M::description.name);
+    const std::string source = kernel_source("", "Scene", {name, Carry{false, false}, true});
+    EXPECT_NE(source.find("#include \"numerics/methods/" + name + ".hpp\""), std::string::npos)
+        << source;
+    EXPECT_NE(source.find("cs::" + std::string(MethodSourceOf<M>::value.type) + ","),
+              std::string::npos)
+        << source;
+  });
+}
 
 // ---- the scenes with the paper's parameters and initial states --------------------------------
 
@@ -191,7 +215,7 @@ Errors scene_a_errors(double h) {
   return e;
 }
 
-TYPED_TEST(Methods, ObservedOrderOnTheExactSceneA) {
+TYPED_TEST(EveryMethod, ObservedOrderOnTheExactSceneA) {
   using M = TypeParam;
   const int order = catalog_order<M>();
   // Four halvings of h in the asymptotic range, with the smallest error (≳ 1e-9, measured)
@@ -251,7 +275,7 @@ double predicted_h_amplitude(double h, double omega, double q0, double p0, doubl
 // γ = 0.01 to t = 10⁴ keeps γt = 100, far from underflow (PHYSICS.md). h is chosen per order so
 // that the predicted oscillation (2.6e-5, 4.9e-7, 2.6e-7) stands far above the round-off drift
 // of 10⁶ steps (≲ 3e-9, measured with order 4 at h = 0.01).
-TYPED_TEST(Methods, LongTimeHOnSceneA) {
+TYPED_TEST(EveryMethod, LongTimeHOnSceneA) {
   using M = TypeParam;
   using S = DampedOscillator;
   if (Traits<M>::long_time_h == LongTimeH::tested_elsewhere)
@@ -335,7 +359,7 @@ void expect_order(const std::vector<Errors>& e, bool log_lambda_exact) {
   }
 }
 
-TYPED_TEST(Methods, ObservedOrderWithTimeDependentForcing) {
+TYPED_TEST(EveryMethod, ObservedOrderWithTimeDependentForcing) {
   using M = TypeParam;
   using S = test::ForcedOscillator;
   const ParamsOf<S, double> c{1.0, 0.1, 0.5, 1.3};
@@ -354,7 +378,7 @@ TYPED_TEST(Methods, ObservedOrderWithTimeDependentForcing) {
   }
 }
 
-TYPED_TEST(Methods, ObservedOrderWithTimeDependentDamping) {
+TYPED_TEST(EveryMethod, ObservedOrderWithTimeDependentDamping) {
   using M = TypeParam;
   using S = test::LaneEmden5;
   const double t0 = 1.0;  // the damping 2/t is singular at t = 0
@@ -400,7 +424,7 @@ void expect_convergence_to_reference(const char* scene) {
   EXPECT_LT(e[2], e[0]);
 }
 
-TYPED_TEST(Methods, AgreeWithTheReferenceOnEveryScene) {
+TYPED_TEST(EveryMethod, AgreeWithTheReferenceOnEveryScene) {
   expect_convergence_to_reference<TypeParam, DampedOscillator>("damped_oscillator");
   expect_convergence_to_reference<TypeParam, Z2Damping>("z2_damping");
   expect_convergence_to_reference<TypeParam, DoubleWell>("double_well");
@@ -420,7 +444,7 @@ void expect_engine_equals_direct_steps(const std::string& scene, const std::stri
                                        bool per_lane_parameters) {
   SCOPED_TRACE(scene + (per_lane_parameters ? ", per-lane parameters" : ", uniform parameters"));
   const std::string spec = "[scene]\nname = \"" + scene + "\"\n[integrator]\nmethod = \"" +
-                           Traits<M>::name + "\"\nh = 0.05\nt_end = 10.0\n[grid]\n" + p_axis +
+                           std::string(M::description.name) + "\"\nh = 0.05\nt_end = 10.0\n[grid]\n" + p_axis +
                            " = { values = [0.0, 0.3, -0.2] }\n" +
                            (per_lane_parameters ? "gamma = { values = [0.05, 0.1] }\n" : "") +
                            "[measures]\nfinal_state = true\n";
@@ -452,7 +476,7 @@ void expect_engine_equals_direct_steps(const std::string& scene, const std::stri
   }
 }
 
-TYPED_TEST(Methods, EngineRunEqualsDirectSteps) {
+TYPED_TEST(EveryMethod, EngineRunEqualsDirectSteps) {
   for (bool per_lane : {false, true}) {
     using M = TypeParam;
     expect_engine_equals_direct_steps<M, DampedOscillator>("damped_oscillator", "p_0", per_lane);
@@ -511,7 +535,7 @@ void expect_consistent_composition(double tolerance) {
     EXPECT_EQ(w[s], w[w.size() - 1 - s]) << "not palindromic";
   }
   EXPECT_NEAR(sum, 1.0, 1e-15);
-  if (Composition::order >= 4) {
+  if (ContactSplitting<Composition>::order >= 4) {
     EXPECT_NEAR(cubes, 0.0, tolerance);
   }
 }

@@ -17,10 +17,7 @@
 #include <cmath>
 #include <string>
 
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "support/all_methods.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
@@ -97,8 +94,7 @@ double largest_excursion(double h, long steps) {
 
 template <class M>
 class Stability : public ::testing::Test {};
-using AllMethods = ::testing::Types<HybridLeapfrog, SymmetricLeapfrog, ContactSplitting2,
-                                    ContactSplitting4, ContactSplitting6, Rk4>;
+using test::AllMethods;
 TYPED_TEST_SUITE(Stability, AllMethods);
 
 TYPED_TEST(Stability, LimitOnSceneA) {

@@ -43,10 +43,7 @@
 #include <vector>
 
 #include "engine/run_plan.hpp"
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "support/all_methods.hpp"
 #include "physics/scene_bounds.hpp"
 #include "support/format_number.hpp"
 #include "support/linear_step_map.hpp"
@@ -166,8 +163,7 @@ const char* const kTraj[] = {"traj_q", "traj_p", "traj_z", "traj_log_lambda", "t
 
 template <class M>
 class StabilityRuns : public ::testing::Test {};
-using AllMethods = ::testing::Types<HybridLeapfrog, SymmetricLeapfrog, ContactSplitting2,
-                                    ContactSplitting4, ContactSplitting6, Rk4>;
+using test::AllMethods;
 TYPED_TEST_SUITE(StabilityRuns, AllMethods);
 
 TYPED_TEST(StabilityRuns, BoundedJustBelowTheLimitFlaggedJustAbove) {

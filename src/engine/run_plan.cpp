@@ -8,13 +8,6 @@
 #include <fmt/format.h>
 
 #include "engine/attractor_table.hpp"
-#include "engine/block_runner.hpp"
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
-#include "formula/custom_scene.hpp"
-#include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 
 namespace cs {
 namespace {
@@ -143,36 +136,6 @@ int RunPlan::add_column(DatasetSpec dataset, std::int64_t width, bool internal) 
   return static_cast<int>(columns.size() - 1);
 }
 
-namespace {
-
-// Whether K = Σp²/2 + V(q) + k·z without t (the energy trap's form): E = K(q, p, 0) changes as
-// k·|p|², so with k < 0 every orbit ends where p = 0 and forces vanish (LaSalle): at fixed
-// points, which the anchor test and the trap find; with k ≥ 0 there is no attractor at all.
-template <class... Scenes>
-bool builtin_fixed_points_only(const std::string& name, SceneList<Scenes...>) {
-  return ((name == Scenes::name && has_energy_trap<Scenes>()) || ...);
-}
-
-template <class... Scenes>
-bool builtin_reads_t(const std::string& name, SceneList<Scenes...>) {
-  return ((name == Scenes::name && time_dependent<Scenes>()) || ...);
-}
-
-bool reads_t(const RunSpec& spec, const SceneInfo& scene) {
-  if (spec.custom) return spec.custom->formula.traits.time_dependent;
-  return builtin_reads_t(scene.name, BuiltinScenes{});
-}
-
-bool fixed_points_only(const RunSpec& spec, const SceneInfo& scene) {
-  if (spec.custom) {
-    const KTraits& traits = spec.custom->formula.traits;
-    return traits.z_part == ZPart::linear && !traits.time_dependent;
-  }
-  return builtin_fixed_points_only(scene.name, BuiltinScenes{});
-}
-
-}  // namespace
-
 void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   auto add = [&](DatasetSpec d, std::int64_t width = 1, bool internal = false) {
     return add_column(std::move(d), width, internal);
@@ -216,8 +179,7 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
     auto it = basin.angles.find(scene.variables[static_cast<std::size_t>(k)].name);
     if (it != basin.angles.end()) a.angle_period[static_cast<std::size_t>(k)] = it->second;
   }
-  recurrence = plan_recurrence(spec, scene, fixed_points_only(spec, scene), a.angle_period);
-  recurrence.period_on_autonomous = basin.period.has_value() && !reads_t(spec, scene);
+  recurrence = plan_recurrence(spec, scene, a.angle_period);
   if (recurrence.enabled) {
     map.basin_cells = add({"basin_cells", ElementType::float64, false, "", "", {}, "", std::nullopt},
                           RecurrenceSearch::kRecordWidth, true);
@@ -248,51 +210,6 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
     specs.push_back(std::move(slice));
   }
   return plans;
-}
-
-// ---- dispatch: the one place where run-time names meet template instantiations ------------
-
-namespace {
-
-template <Scene S, class Method>
-void run_with(const RunPlan& plan, BlockResults& results) {
-  auto go = [&]<Carry carry>() {
-    if (plan.grid.uniform_parameters())
-      std::make_unique<BlockRunner<S, Method, carry, true>>(plan, results)->run();
-    else
-      std::make_unique<BlockRunner<S, Method, carry, false>>(plan, results)->run();
-  };
-  if (plan.carry.mu) go.template operator()<Carry{true, true}>();
-  else if (plan.carry.z) go.template operator()<Carry{true, false}>();
-  else go.template operator()<Carry{false, false}>();
-}
-
-// The built-in scene of that name (BuiltinScenes: the catalog's list), run with Method.
-template <class Method, class... Scenes>
-void run_scene(const RunPlan& plan, BlockResults& results, SceneList<Scenes...>) {
-  const bool found = ((plan.scene.name == Scenes::name
-                           ? (run_with<Scenes, Method>(plan, results), true)
-                           : false) || ...);
-  if (!found) throw std::logic_error("no kernel for scene " + plan.scene.name);
-}
-
-template <class Method>
-void run_scene(const RunPlan& plan, BlockResults& results) {
-  run_scene<Method>(plan, results, BuiltinScenes{});
-}
-
-}  // namespace
-
-void run_block(const RunPlan& plan, BlockResults& results) {
-  if (plan.custom_kernel != nullptr) return plan.custom_kernel(plan, results);
-  const auto& method = plan.method.name;
-  if (method == "hybrid_leapfrog") return run_scene<HybridLeapfrog>(plan, results);
-  if (method == "symmetric_leapfrog") return run_scene<SymmetricLeapfrog>(plan, results);
-  if (method == "contact_splitting2") return run_scene<ContactSplitting2>(plan, results);
-  if (method == "contact_splitting4") return run_scene<ContactSplitting4>(plan, results);
-  if (method == "contact_splitting6") return run_scene<ContactSplitting6>(plan, results);
-  if (method == "rk4") return run_scene<Rk4>(plan, results);
-  throw std::logic_error("no kernel for method " + method);
 }
 
 }  // namespace cs

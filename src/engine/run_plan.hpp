@@ -100,6 +100,7 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
                                                        std::vector<std::unique_ptr<RunSpec>>& specs);
 
 // Integrates the points of `results.range` and fills `results`. Thread-safe for distinct blocks.
+// (engine/kernel_dispatch.cpp)
 void run_block(const RunPlan& plan, BlockResults& results);
 
 }  // namespace cs

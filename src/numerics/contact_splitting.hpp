@@ -10,7 +10,8 @@
 // limit on scene A (ω = 1, γ = 0.1) would be h < 1.5651 rather than this one's 1.5706.
 //
 // A higher-order method is S₂ composed over a table of weights w_s (Σ w_s = 1, palindromic):
-// S(h) = S₂(w_m h) ∘ … ∘ S₂(w_1 h). A new composition is a new table, never new code.
+// S(h) = S₂(w_m h) ∘ … ∘ S₂(w_1 h). A new composition is a new table, never new code: a file in
+// numerics/methods/ holding the table and its description (contact_splitting4.hpp).
 //
 // V′ is needed at the start and end of each S₂: a kick and the Z flow leave q alone, so the
 // force at the end of one S₂ is the force at the start of the next, and of the next step's first
@@ -29,45 +30,29 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <string_view>
 
 #include "numerics/lane_math.hpp"
+#include "numerics/method_description.hpp"
 #include "numerics/split_flows.hpp"
 
 namespace cs {
 
-// ---- compositions: tables of weights of S₂ ----------------------------------------------------
-
-struct StrangComposition {
-  static constexpr int order = 2;
-  static constexpr std::array<double, 1> weights{1.0};
-};
-
-// Yoshida (1990) triple jump: w₁ = 1/(2 − 2^{1/3}), w₀ = −2^{1/3}·w₁, so w₀ + 2w₁ = 1.
-struct YoshidaComposition4 {
-  static constexpr int order = 4;
-  static constexpr double cbrt2 = 1.2599210498948731647672106072782283506;
-  static constexpr double w1 = 1.0 / (2.0 - cbrt2);
-  static constexpr double w0 = -cbrt2 * w1;
-  static constexpr std::array<double, 3> weights{w1, w0, w1};
-};
-
-// Yoshida's (1990) 7-stage sixth-order solution A (his table 1, 15 digits as printed; the order
-// conditions then hold to ~1e-15, far below what double precision can resolve in a step).
-// Chosen over the 9-stage triple jump of the order-4 method: 7 instead of 9 force evaluations
-// per step and a smaller leading error term.
-struct YoshidaComposition6 {
-  static constexpr int order = 6;
-  static constexpr double w1 = -1.17767998417887, w2 = 0.235573213359357, w3 = 0.784513610477560;
-  static constexpr double w0 = 1.0 - 2.0 * (w1 + w2 + w3);
-  static constexpr std::array<double, 7> weights{w3, w2, w1, w0, w1, w2, w3};
-};
+// The sub-flows every splitting method composes. The step solves both shapes of Z a scene can
+// offer (z_linear, z_quadratic); the list cannot say "one of", so it names the parts every such
+// scene must offer (MethodDescription::needs_split_parts).
+inline constexpr std::string_view kSplitFlowParts[] = {"kinetic", "potential"};
 
 // ---- the generic composition -------------------------------------------------------------------
 
+// Composition: the weights (a palindromic std::array summing to 1) and the method's
+// MethodDescription (numerics/methods/contact_splitting*.hpp).
 template <class Composition>
 struct ContactSplitting {
+  static constexpr MethodDescription description = Composition::description;
   static constexpr int stages = static_cast<int>(Composition::weights.size());
-  static constexpr int order = Composition::order;
+  static constexpr int order = description.order;
+  static_assert(description.force_evaluations_per_step == stages, "one force evaluation per S₂");
 
   template <class T>
   struct Coef {
@@ -180,9 +165,5 @@ struct ContactSplitting {
     });
   }
 };
-
-using ContactSplitting2 = ContactSplitting<StrangComposition>;
-using ContactSplitting4 = ContactSplitting<YoshidaComposition4>;
-using ContactSplitting6 = ContactSplitting<YoshidaComposition6>;
 
 }  // namespace cs

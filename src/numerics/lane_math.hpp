@@ -3,8 +3,8 @@
 //
 // Why not std::sin and friends: a call to libm stops GCC from vectorising the loop over lanes,
 // and a lane's bits must not depend on whether and how its loop was vectorised, nor on ranks,
-// threads or lane position (ARCHITECTURE.md, "same spec, same bits"). These functions use IEEE
-// +, −, ×, ÷ and sqrt only (no std::fma, contraction off), exact bit manipulations through
+// threads or lane position (docs/ARCHITECTURE.md, "same spec, same bits"). These functions use
+// IEEE +, −, ×, ÷ and sqrt only (no std::fma, contraction off), exact bit manipulations through
 // std::bit_cast, the exact rounding (x + 1.5·2^52) − 1.5·2^52 and selects as blends of bits;
 // no table lookups, no branch on data. Every path computes the same operations in the same
 // order, so scalar, SSE2, AVX2 and AVX-512 code give identical bits (tests/test_lane_math.cpp

@@ -1,44 +1,39 @@
 #include "numerics/method_catalog.hpp"
 
 #include <algorithm>
+#include <utility>
+
+#include "numerics/method_list.hpp"
 
 namespace cs {
 
 namespace {
 
-// Splitting methods compose exact flows of K = sum p^2/2 + V(q) + Z(z). The step solves both
-// shapes of Z a scene can offer (z_linear, z_quadratic); the list cannot say "one of", so it
-// names the parts every such scene must offer. (A function, not a global: no static init order.)
-std::vector<std::string> split_parts() { return {"kinetic", "potential"}; }
+template <class Method>
+MethodInfo info_of() {
+  constexpr const MethodDescription& d = Method::description;
+  return {std::string(d.name), d.order, std::string(d.properties),
+          std::vector<std::string>(d.needs_split_parts.begin(), d.needs_split_parts.end()),
+          d.force_evaluations_per_step};
+}
 
 }  // namespace
 
+// Built from the generated list (numerics/method_list.hpp), in each description's catalog
+// position. (A function's static, not a global: no static initialisation order.)
 const std::vector<MethodInfo>& method_catalog() {
-  static const std::vector<MethodInfo> catalog{
-      {"hybrid_leapfrog", 2,
-       "Sogo & Ohnishi's hybrid leap-frog (paper, sec. 3.1), explicit; (q, lambda p) conformally "
-       "symplectic; H = lambda K drifts linearly",
-       {}, 1},
-      {"symmetric_leapfrog", 2,
-       "contact variational integrator (Vermeeren, Bravetti, Seri 2019) with trapezoidal z = "
-       "generalized Stormer-Verlet on lambda K; symmetric; H bounded; implicit in z where K_z "
-       "depends on z (2 Newton steps)",
-       {}, 1},
-      {"contact_splitting2", 2,
-       "Strang composition of the exact flows of p^2/2, V(q), Z(z) (Bravetti, Seri, Vermeeren, "
-       "Zadra 2020); contact map; H bounded",
-       split_parts(), 1},
-      {"contact_splitting4", 4,
-       "Yoshida triple jump of contact_splitting2 (3 stages); contact map; H bounded",
-       split_parts(), 3},
-      {"contact_splitting6", 6,
-       "Yoshida's 7-stage solution A over contact_splitting2; contact map; H bounded",
-       split_parts(), 7},
-      {"rk4", 4,
-       "classical Runge-Kutta on the full contact vector field; any scene; not geometric: H "
-       "drifts slowly",
-       {}, 4},
-  };
+  static const std::vector<MethodInfo> catalog = [] {
+    std::vector<std::pair<int, MethodInfo>> listed;
+    Methods::for_each([&]<class Method>() {
+      listed.emplace_back(Method::description.catalog_position, info_of<Method>());
+    });
+    std::sort(listed.begin(), listed.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first < b.first : a.second.name < b.second.name;
+    });
+    std::vector<MethodInfo> methods;
+    for (auto& [position, info] : listed) methods.push_back(std::move(info));
+    return methods;
+  }();
   return catalog;
 }
 

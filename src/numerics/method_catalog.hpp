@@ -1,4 +1,5 @@
-// Run-time description of the integrators, for spec validation and `contactsweep methods`.
+// Run-time description of the integrators, for spec validation and `contactsweep methods`: the
+// descriptions in numerics/methods/ (MethodDescription), as plain data for the rest of the program.
 #pragma once
 
 #include <string>

@@ -15,10 +15,10 @@
 #include <chrono>
 
 #include "kernel_case.hpp"
-#include "numerics/contact_splitting.hpp"
-#include "numerics/hybrid_leapfrog.hpp"
-#include "numerics/rk4.hpp"
-#include "numerics/symmetric_leapfrog.hpp"
+#include "numerics/methods/contact_splitting4.hpp"
+#include "numerics/methods/hybrid_leapfrog.hpp"
+#include "numerics/methods/rk4.hpp"
+#include "numerics/methods/symmetric_leapfrog.hpp"
 #include "physics/coupled_oscillators.hpp"
 #include "physics/damped_oscillator.hpp"
 #include "physics/double_well.hpp"
@@ -36,9 +36,8 @@ constexpr StepOps kWellQpOps{7, 2}, kWellFullOps{23.5, 8.5}, kCoupledOps{20, 4},
 constexpr int kChunk = 32;  // the block runner's chunk for these runs (engine/run_plan.cpp)
 
 template <Scene S, class Method, Carry carry, int W = 64>
-KernelCase make(const char* scene, const char* method, StepOps ops, ParamsOf<S, double> c,
-                double h, int steps) {
-  return {scene, method, carry.z ? "full" : "qp", W, ops, [=] {
+KernelCase make(const char* scene, StepOps ops, ParamsOf<S, double> c, double h, int steps) {
+  return {scene, std::string(Method::description.name), carry.z ? "full" : "qp", W, ops, [=] {
             return std::unique_ptr<KernelInstance>(
                 new TiledCase<S, Method, carry, W>(c, h, steps, kChunk));
           }};
@@ -46,7 +45,7 @@ KernelCase make(const char* scene, const char* method, StepOps ops, ParamsOf<S, 
 
 std::vector<KernelCase> all_cases() {
   // The runs of sweeps/: basins_double_well (t = 100, h = 0.01), sync_g_gamma, and the K
-  // showcases, with the parameters written there. Operations per lane-step (the third argument:
+  // showcases, with the parameters written there. Operations per lane-step (the second argument:
   // {multiplies and FMAs, adds and subtracts}; {} = not counted) are read off the compiled step
   // loop of the AVX-512 path with objdump (README, "The kernel against its roofline"): the double
   // well's q, p step is 3 fused + 4 multiplies + 1 add + 1 subtract = 9 (p − h/2·K_q fused,
@@ -61,21 +60,20 @@ std::vector<KernelCase> all_cases() {
   const KMagneticPendulum::Params<double> magnets{0.3, 0.2, 0.5};  // d, gamma, w
   const DampedOscillator::Params<double> oscillator{1.0, 0.1};
   const Z2Damping::Params<double> z2{1.0, 0.1};
-  using Cs4 = ContactSplitting<YoshidaComposition4>;
   return {
-      make<DoubleWell, HybridLeapfrog, kQp, 32>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kQp>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kQp, 128>("double_well", "hybrid_leapfrog", kWellQpOps, well, 0.01, 10000),
-      make<DoubleWell, HybridLeapfrog, kFull>("double_well", "hybrid_leapfrog", kWellFullOps, well, 0.01, 10000),
-      make<DoubleWell, SymmetricLeapfrog, kQp>("double_well", "symmetric_leapfrog", kNotCounted, well, 0.01, 10000),
-      make<DoubleWell, Cs4, kQp>("double_well", "contact_splitting4", kNotCounted, well, 0.01, 10000),
-      make<DoubleWell, Rk4, kQp>("double_well", "rk4", kNotCounted, well, 0.01, 10000),
-      make<DampedOscillator, HybridLeapfrog, kFull>("damped_oscillator", "hybrid_leapfrog", kNotCounted, oscillator, 0.01, 10000),
-      make<Z2Damping, HybridLeapfrog, kFull>("z2_damping", "hybrid_leapfrog", kNotCounted, z2, 0.01, 10000),
-      make<CoupledOscillators, HybridLeapfrog, kQp>("coupled_oscillators", "hybrid_leapfrog", kCoupledOps, coupled, 0.01, 7000),
-      make<KDoubleWell, HybridLeapfrog, kQp>("K:double_well", "hybrid_leapfrog", kWellQpOps, k_well, 0.01, 10000),
-      make<KForcedDuffing, Cs4, kQp>("K:forced_duffing", "contact_splitting4", kNotCounted, duffing, 0.05, 8000),
-      make<KMagneticPendulum, Cs4, kQp>("K:magnetic_pendulum", "contact_splitting4", kNotCounted, magnets, 0.02, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp, 32>("double_well", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp>("double_well", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kQp, 128>("double_well", kWellQpOps, well, 0.01, 10000),
+      make<DoubleWell, HybridLeapfrog, kFull>("double_well", kWellFullOps, well, 0.01, 10000),
+      make<DoubleWell, SymmetricLeapfrog, kQp>("double_well", kNotCounted, well, 0.01, 10000),
+      make<DoubleWell, ContactSplitting4, kQp>("double_well", kNotCounted, well, 0.01, 10000),
+      make<DoubleWell, Rk4, kQp>("double_well", kNotCounted, well, 0.01, 10000),
+      make<DampedOscillator, HybridLeapfrog, kFull>("damped_oscillator", kNotCounted, oscillator, 0.01, 10000),
+      make<Z2Damping, HybridLeapfrog, kFull>("z2_damping", kNotCounted, z2, 0.01, 10000),
+      make<CoupledOscillators, HybridLeapfrog, kQp>("coupled_oscillators", kCoupledOps, coupled, 0.01, 7000),
+      make<KDoubleWell, HybridLeapfrog, kQp>("K:double_well", kWellQpOps, k_well, 0.01, 10000),
+      make<KForcedDuffing, ContactSplitting4, kQp>("K:forced_duffing", kNotCounted, duffing, 0.05, 8000),
+      make<KMagneticPendulum, ContactSplitting4, kQp>("K:magnetic_pendulum", kNotCounted, magnets, 0.02, 10000),
   };
 }
 

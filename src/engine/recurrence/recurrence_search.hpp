@@ -40,11 +40,11 @@ enum class UndecidedReason : int {
 };
 inline constexpr int kUndecidedReasons = 7;
 
-// The recurrence mapper's settings for this run. `fixed_points_only`: K proves every attractor
-// a fixed point (K = Σp²/2 + V(q) + k·z without t), so the mapper is off unless asked for.
-// Throws InputError when the box holds more cells than keys can name (2^53).
+// The recurrence mapper's settings for this run: off unless asked for where K proves every
+// attractor a fixed point (K = Σp²/2 + V(q) + k·z without t). Throws InputError when the box
+// holds more cells than keys can name (2^53).
 RecurrenceSearch plan_recurrence(const RunSpec& spec, const SceneInfo& scene,
-                                 bool fixed_points_only, const std::vector<double>& angle_period);
+                                 const std::vector<double>& angle_period);
 
 // The centre of a cell (angles in [0, period)), as CellGrid::centre.
 std::vector<double> cell_centre(const RecurrenceSearch& r, std::uint64_t key);

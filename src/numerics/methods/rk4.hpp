@@ -10,11 +10,24 @@
 #pragma once
 
 #include "numerics/lane_state.hpp"
+#include "numerics/method_description.hpp"
 #include "physics/partials.hpp"
 
 namespace cs {
 
 struct Rk4 {
+  static constexpr MethodDescription description{
+      .name = "rk4",
+      .catalog_position = 6,
+      .order = 4,
+      .properties = "classical Runge-Kutta on the full contact vector field; any scene; not "
+                    "geometric: H drifts slowly",
+      .force_evaluations_per_step = 4,
+      .documentation = "Cheapest per trajectory for moderate accuracy over short times (final "
+                       "error 1e-2 to 1e-6), and for basin maps that must agree with a fine "
+                       "reference to a few cells; its H drifts.",
+  };
+
   template <class T>
   struct Coef {
     T h, half_h, sixth_h;

@@ -44,11 +44,24 @@
 
 #include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
+#include "numerics/method_description.hpp"
 #include "physics/partials.hpp"
 
 namespace cs {
 
 struct SymmetricLeapfrog {
+  static constexpr MethodDescription description{
+      .name = "symmetric_leapfrog",
+      .catalog_position = 2,
+      .order = 2,
+      .properties = "contact variational integrator (Vermeeren, Bravetti, Seri 2019) with "
+                    "trapezoidal z = generalized Stormer-Verlet on lambda K; symmetric; H "
+                    "bounded; implicit in z where K_z depends on z (2 Newton steps)",
+      .force_evaluations_per_step = 1,
+      .documentation = "Second order with H bounded on a scene that offers no exact sub-flows, "
+                       "where the contact splittings are refused.",
+  };
+
   template <class T>
   struct Coef {
     T h, half_h;

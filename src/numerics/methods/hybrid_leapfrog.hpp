@@ -30,11 +30,24 @@
 
 #include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
+#include "numerics/method_description.hpp"
 #include "physics/partials.hpp"
 
 namespace cs {
 
 struct HybridLeapfrog {
+  static constexpr MethodDescription description{
+      .name = "hybrid_leapfrog",
+      .catalog_position = 1,
+      .order = 2,
+      .properties = "Sogo & Ohnishi's hybrid leap-frog (paper, sec. 3.1), explicit; (q, lambda p) "
+                    "conformally symplectic; H = lambda K drifts linearly",
+      .force_evaluations_per_step = 1,
+      .documentation = "The published method, line for line: choose it to reproduce the paper. "
+                       "For other second-order work contact_splitting2 is as accurate, cheaper "
+                       "per step and keeps H bounded.",
+  };
+
   static constexpr int kEndForcePasses = 5;  // scenes whose K_q or K_z depend on p only
 
   // Per-lane constants, computed once when a lane is loaded. inv_a, b and dmu = ln a − ln b are
