@@ -11,7 +11,7 @@ namespace {
 
 const LabelRule kSign{LabelRule::Kind::sign_of_q1, "left_well", "right_well"};
 
-Attractor fixed_point(double q, double p = 0.0) { return {0, 1, {q, p}}; }
+Attractor fixed_point(double q, double p = 0.0) { return {0, 1, {q, p}, {}}; }
 
 std::vector<int> labels(const std::vector<Attractor>& table) {
   std::vector<int> out;

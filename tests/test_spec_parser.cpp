@@ -382,6 +382,27 @@ basin = { early_stop = false }
   EXPECT_TRUE(other.measures.basin->early_stop);
 }
 
+TEST(SpecParser, RecurrenceMapperSettingsAndTheirDefaults) {
+  const RunSpec given = parse(kDoubleWell + R"(
+[measures]
+basin = { recurrence = true, cell_size = 0.05, recurrences = 30, locate = 200, max_cells = 999, box = { p = [-3, 2.5] } }
+)");
+  const RecurrenceSettings& r = given.measures.basin->recurrence;
+  EXPECT_EQ(r.enabled, std::optional<bool>(true));
+  EXPECT_EQ(r.cell_size, std::optional<double>(0.05));
+  EXPECT_EQ(r.recurrences, 30);
+  EXPECT_EQ(r.locate, 200);
+  EXPECT_EQ(r.max_cells, 999);
+  EXPECT_EQ(r.box.at("p"), (std::array<double, 2>{-3.0, 2.5}));
+  // Attractors.jl's defaults; on or off, and the cells' size, decided by the run plan.
+  const RecurrenceSettings d = parse(kDoubleWell + "[measures]\nbasin = {}\n").measures.basin->recurrence;
+  EXPECT_FALSE(d.enabled.has_value());
+  EXPECT_FALSE(d.cell_size.has_value());
+  EXPECT_EQ(d.recurrences, 100);
+  EXPECT_EQ(d.locate, 1000);
+  EXPECT_TRUE(d.box.empty());
+}
+
 TEST(SpecParser, SyncWindowGivenOrSecondHalfOfTheRun) {
   const RunSpec given = parse(kCoupled + "[measures]\nsync = { window = [50.0, 100] }\n");
   EXPECT_EQ(given.measures.sync->window_from, 50.0);
@@ -671,7 +692,20 @@ const std::vector<BadSpec> kBadSpecs = {
      "measures.basin.early_stop: expected true or false, got a string \"no\""},
     {"measure_number", kDw + "[measures]\nbasin = 1\n", {},
      "measures.basin: expected true, false or a table { early_stop, period, tolerance, dwell, "
-     "max_period, exact_trap, angles = ... }, got an integer 1"},
+     "max_period, exact_trap, angles, recurrence, cell_size, recurrences, locate, max_cells, "
+     "box = ... }, got an integer 1"},
+    {"recurrence_string", kDw + "[measures]\nbasin = { recurrence = \"yes\" }\n", {},
+     "measures.basin.recurrence: expected true or false"},
+    {"cell_size_zero", kDw + "[measures]\nbasin = { cell_size = 0 }\n", {},
+     "measures.basin.cell_size = 0: expected a cell's side > 0"},
+    {"recurrences_zero", kDw + "[measures]\nbasin = { recurrences = 0 }\n", {},
+     "measures.basin.recurrences = 0: expected an integer >= 1"},
+    {"locate_float", kDw + "[measures]\nbasin = { locate = 2.5 }\n", {},
+     "measures.basin.locate: expected an integer"},
+    {"box_unknown_variable", kDw + "[measures]\nbasin = { box = { pp = [-1, 1] } }\n", {},
+     "measures.basin.box.pp: 'pp' is not a position or momentum of scene 'double_well' (q, p)"},
+    {"box_reversed", kDw + "[measures]\nbasin = { box = { p = [1, -1] } }\n", {},
+     "measures.basin.box.p: expected [lo, hi] with lo < hi"},
     {"vars_not_array", kDw + "[measures]\nfinal_state = { vars = \"q\" }\n", {},
      "measures.final_state.vars: expected an array"},
     // Values out of range, non-finite numbers.

@@ -9,6 +9,7 @@
 
 #include "engine/attractor_search.hpp"
 #include "engine/label_rule.hpp"
+#include "engine/recurrence/recurrence_table.hpp"
 
 namespace cs {
 namespace {
@@ -37,7 +38,18 @@ void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>
   for (const Attractor& a : table)
     if (a.period == s.period && distance(plan, a.point.data(), s.point) <= link_distance(plan))
       return;
-  table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan))});
+  table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}});
+}
+
+// A candidate's values: {block begin, period, point..}, then the recurrence record where the
+// recurrence mapper runs (NaN for the others).
+std::size_t record_width(const RunPlan& plan) {
+  return 2 + static_cast<std::size_t>(phase_space(plan)) +
+         (plan.map.basin_cells >= 0 ? RecurrenceSearch::kRecordWidth : 0);
+}
+
+bool by_recurrence(const RunPlan& plan, const double* point) {
+  return plan.map.basin_cells >= 0 && point[phase_space(plan)] == 0.0;
 }
 
 const double* point_of(const RunPlan& plan, const BlockResults& block, std::int64_t i) {
@@ -54,19 +66,23 @@ std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& bl
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     if (labels[static_cast<std::size_t>(i)] == 0.0) continue;
     const double* point = point_of(plan, block, i);
+    if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
     add_sighting(plan, {point, static_cast<int>(point[n])}, found);
   }
+  const std::size_t width = record_width(plan);
   std::vector<double> records;
   for (const Attractor& a : found) {
     records.push_back(static_cast<double>(block.range.begin));
     records.push_back(a.period);
     records.insert(records.end(), a.point.begin(), a.point.end());
+    records.resize(records.size() + width - 2 - a.point.size(), std::nan(""));
   }
+  if (plan.map.basin_cells >= 0) add_recurrence_candidates(plan, block, records, width);
   return records;
 }
 
 AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records) {
-  const std::size_t width = static_cast<std::size_t>(phase_space(plan)) + 2;
+  const std::size_t width = record_width(plan);
   std::vector<std::size_t> order;
   for (std::size_t r = 0; r + width <= records.size(); r += width) order.push_back(r);
   // Block order, and within a block the order its lanes found them in.
@@ -74,8 +90,11 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
                    [&](std::size_t a, std::size_t b) { return records[a] < records[b]; });
   AttractorTable table;
   std::vector<Attractor>& attractors = table.attractors;
-  for (std::size_t r : order)
-    add_sighting(plan, {&records[r + 2], static_cast<int>(records[r + 1])}, attractors);
+  std::vector<std::size_t> by_cells;
+  for (std::size_t r : order) {
+    if (plan.map.basin_cells >= 0 && records[r + 1] == 0.0) by_cells.push_back(r);
+    else add_sighting(plan, {&records[r + 2], static_cast<int>(records[r + 1])}, attractors);
+  }
   // Coordinates within the link distance count as equal, so that the order (and the labels) do
   // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's
   // magnets at (−1/2, ±√3/2) share q1 up to rounding.
@@ -87,6 +106,8 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
       if (std::fabs(a.point[k] - b.point[k]) > link) return a.point[k] < b.point[k];
     return false;
   });
+  // Then the attractors found by recurrences, in order of their smallest cell.
+  if (plan.map.basin_cells >= 0) add_recurrence_attractors(plan, records, by_cells, attractors);
   table.labels = apply_label_rule(plan.scene.label_rule, plan.scene.variables.front().name, attractors);
   return table;
 }
@@ -98,6 +119,11 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& table, Block
     double& label = labels[static_cast<std::size_t>(i)];
     if (label == 0.0) continue;
     const double* point = point_of(plan, block, i);
+    if (by_recurrence(plan, point)) {
+      const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
+      label = recurrence_label(table, &cells[static_cast<std::size_t>(i) * RecurrenceSearch::kRecordWidth]);
+      continue;
+    }
     double nearest = INFINITY;
     for (const Attractor& a : table) {
       if (a.period != static_cast<int>(point[n])) continue;

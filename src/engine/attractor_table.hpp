@@ -20,6 +20,9 @@ struct Attractor {
   int label = 0;
   int period = 1;             // of the stroboscopic map's cycle (1: a fixed point)
   std::vector<double> point;  // q.., p..; angles in [0, period)
+  // Found by recurrences (period 0): the cells (keys) its lanes located, as far as their
+  // records name them (recurrence_table.hpp); empty otherwise.
+  std::vector<std::uint64_t> cells;
 };
 
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart

@@ -140,17 +140,17 @@ class BlockRunner {
     Book b;
     b.point = k;
     if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
-      finish(b, x, c, LaneStatus::undefined_at_start);
+      finish(i, b, x, c, LaneStatus::undefined_at_start);
       return false;
     }
     if (Method::template breaks_down<S>(coef)) {
       observe(i, b, x, c);  // the initial state is sound; its first step is what breaks down
-      finish(b, x, c, LaneStatus::breakdown);
+      finish(i, b, x, c, LaneStatus::breakdown);
       return false;
     }
     observe(i, b, x, c);
     if (b.basin.settled && basin_early_stop_) {  // decided before the first step
-      finish(b, x, c, LaneStatus::ok);
+      finish(i, b, x, c, LaneStatus::ok);
       return false;
     }
     main_.set_lane(i, x);
@@ -223,7 +223,7 @@ class BlockRunner {
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || b.n == steps_ || (b.basin.settled && basin_early_stop_);
       if (done) {
-        finish(b, x, c, status);
+        finish(i, b, x, c, status);
         clear(main_, main_book_, i);
         --active_;
       } else if (steps_ - b.n < plan_.chunk) {
@@ -255,7 +255,7 @@ class BlockRunner {
       lane_failed(x, status);
       const Params c = fin_.params(j);
       if (status == LaneStatus::ok) observe(W + j, b, x, c);
-      finish(b, x, c, status);
+      finish(W + j, b, x, c, status);
       clear(fin_, fin_book_, j);
     }
     fin_count_ = 0;
@@ -310,10 +310,18 @@ class BlockRunner {
     }
   }
 
-  void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status) {
+  // The lane in `lane_slot` (main or finisher, as the mappers count) hands its results over.
+  void finish(int lane_slot, const Book& b, const LaneState<D>& x, const Params& c,
+              LaneStatus status) {
     TrapVerdict verdict = TrapVerdict::not_applicable;
     if (plan_.map.trap_verdict >= 0) verdict = mappers_.trap_verdict(c);
     writer_.finish(b, x, c, status, verdict);
+    if (plan_.map.basin_cells >= 0) {
+      double record[RecurrenceSearch::kRecordWidth];
+      UndecidedReason why = UndecidedReason::not_tracked;
+      mappers_.recurrence_record(lane_slot, status != LaneStatus::ok, b.basin, record, why);
+      writer_.finish_recurrence(b.point, record, why);
+    }
   }
 
   const RunPlan& plan_;

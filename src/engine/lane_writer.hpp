@@ -54,6 +54,13 @@ class LaneWriter {
     if (!finite) b.non_finite = true;
   }
 
+  // The recurrence mapper's record of the lane and why it is undecided (RunPlan::map).
+  void finish_recurrence(std::int64_t point, const double* record, UndecidedReason why) {
+    double* out = column(plan_.map.basin_cells, point);
+    for (int k = 0; k < RecurrenceSearch::kRecordWidth; ++k) out[k] = record[k];
+    column(plan_.map.undecided_reason, point)[0] = static_cast<double>(why);
+  }
+
   // Writes a lane's results. A lane that ran (status ok) but wrote a value that is not finite
   // where the dataset promises one (ln λ or H overflowing, z where K is undefined along the
   // path) is flagged non_finite: its values are written as computed, its basin kept (decided on

@@ -179,6 +179,13 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
     auto it = basin.angles.find(scene.variables[static_cast<std::size_t>(k)].name);
     if (it != basin.angles.end()) a.angle_period[static_cast<std::size_t>(k)] = it->second;
   }
+  recurrence = plan_recurrence(spec, scene, a.angle_period);
+  if (recurrence.enabled) {
+    map.basin_cells = add({"basin_cells", ElementType::float64, false, "", "", {}, "", std::nullopt},
+                          RecurrenceSearch::kRecordWidth, true);
+    map.undecided_reason = add(
+        {"undecided_reason", ElementType::float64, false, "", "", {}, "", std::nullopt}, 1, true);
+  }
 }
 
 std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, const SceneInfo& scene,

@@ -11,6 +11,7 @@
 
 #include "engine/grid.hpp"
 #include "engine/results.hpp"
+#include "engine/recurrence/recurrence_search.hpp"
 #include "model/run_spec.hpp"
 #include "numerics/lane_state.hpp"
 #include "numerics/method_catalog.hpp"
@@ -45,6 +46,9 @@ struct ColumnMap {
   int basin = -1, settle_time = -1;
   int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
   int trap_verdict = -1;  // internal: whether the energy trap served the lane (TrapVerdict)
+  // internal, where the recurrence mapper runs: a lane's record (RecurrenceSearch) and why it
+  // ended undecided (UndecidedReason)
+  int basin_cells = -1, undecided_reason = -1;
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
 };
 
@@ -72,6 +76,7 @@ struct RunPlan {
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
   AttractorSearch attractors;
+  RecurrenceSearch recurrence;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
   // Flat index of this plan's first point in the whole grid: a run over several step sizes

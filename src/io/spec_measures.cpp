@@ -102,7 +102,8 @@ void SpecReader::read_trajectory(const toml::table& measures) {
 void SpecReader::read_basin(const toml::table& measures) {
   const toml::table* t = measure_settings(
       measures, "basin",
-      {"early_stop", "period", "tolerance", "dwell", "max_period", "exact_trap", "angles"});
+      {"early_stop", "period", "tolerance", "dwell", "max_period", "exact_trap", "angles",
+       "recurrence", "cell_size", "recurrences", "locate", "max_cells", "box"});
   if (t == nullptr) return;
   BasinMeasure basin;
   if (const toml::node* early_stop = t->get("early_stop"))
@@ -152,6 +153,7 @@ void SpecReader::read_basin(const toml::table& measures) {
       basin.angles[std::string(name.str())] = angle_period;
     }
   }
+  read_basin_recurrence(*t, basin.recurrence);
   spec_.measures.basin = basin;
 }
 

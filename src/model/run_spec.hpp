@@ -42,6 +42,18 @@ struct TrajectoryMeasure {
 // Basins (INTERFACE.md, "Basins of any system"). A lane settles when its (q, p) stays within
 // `tolerance` (max norm) of a fixed point, or of a period-m cycle of the stroboscopic map at
 // t_start + k·period, for `dwell` time units; its attractor then joins the run's table.
+// The recurrence mapper (engine/recurrence/, Attractors.jl's AttractorsViaRecurrences): a grid
+// of cells over phase space, in which a lane settles when it keeps revisiting a bounded set.
+struct RecurrenceSettings {
+  std::optional<bool> enabled;      // none: on unless K proves every attractor a fixed point
+  std::optional<double> cell_size;  // none: the box's widest side / kDefaultCellsAcross
+  std::int64_t recurrences = 100;   // revisits in a row that find an attractor
+  std::int64_t locate = 1000;       // samples after them whose cells are the attractor's
+  std::int64_t max_cells = 16384;   // cells a lane may visit before it gives up
+  std::map<std::string, std::array<double, 2>> box;  // variable → [lo, hi]; else from the grid
+  static constexpr double kDefaultCellsAcross = 100.0;
+};
+
 struct BasinMeasure {
   bool early_stop = true;
   std::optional<double> period;          // the forcing period (stroboscopic map); none: looks
@@ -50,6 +62,7 @@ struct BasinMeasure {
   int max_period = 1;                    // longest cycle of the stroboscopic map looked for
   bool exact_trap = true;                // use the scene's exact energy trap where it has one
   std::map<std::string, double> angles;  // variable → its period (compared modulo it)
+  RecurrenceSettings recurrence;
   static constexpr double kDefaultDwell = 20.0;          // time units, autonomous
   static constexpr double kDefaultDwellPeriods = 16.0;   // periods, stroboscopic
   static constexpr int kDefaultMaxPeriod = 8;            // with a period

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "mpi/comm.hpp"
+#include "parallel/undecided_summary.hpp"
 #include "physics/energy_wells.hpp"
 
 namespace cs {
@@ -114,6 +115,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
   }
   for (auto& block : results) label_block(whole, summary.table, *block);
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
+  summary.undecided = undecided_reasons(whole, results, comm);
   const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   if (rank_of(comm) != 0) return summary;
@@ -182,6 +184,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   number["boundary_dimension"] = s.boundary_dimension;
   number["basin_tolerance"] = plan.attractors.tolerance;
   layout.text_attributes["energy_trap"] = basins.energy_trap;
+  if (!basins.undecided.empty()) layout.text_attributes["basin_undecided"] = basins.undecided;
   if (!basins.labels.description.empty())
     layout.text_attributes["basin_labels"] = basins.labels.description;
   layout.text_attributes["basin_boundary"] =
@@ -251,7 +254,9 @@ std::string describe(const BasinSummary& basins) {
   for (const Attractor& a : basins.table)
     text += fmt::format("; {} ({}period {}) {:.4f}", a.label,
                         fmt::format("{:.4g}, ", fmt::join(a.point, ", ")), a.period, fraction(a.label));
-  text += fmt::format("; undecided {:.4f}; energy trap: {}", fraction(0), basins.energy_trap);
+  text += fmt::format("; undecided {:.4f}", fraction(0));
+  if (!basins.undecided.empty()) text += fmt::format(" ({})", basins.undecided);
+  text += fmt::format("; energy trap: {}", basins.energy_trap);
   if (!basins.labels.description.empty()) text += "; labels: " + basins.labels.description;
   if (!std::isnan(s.basin_entropy))
     text += fmt::format("; S_b = {:.4f}, S_bb = {:.4f} ({} ln 2: {}), uncertainty exponent {:.3f} "

@@ -26,6 +26,9 @@ struct BasinSummary {
   Labelling labels;
   // Whether the energy trap decided basins, and if not why (the root attribute `energy_trap`).
   std::string energy_trap;
+  // Why lanes ended undecided, where the recurrence mapper runs (the root attribute
+  // `basin_undecided`; undecided_summary.hpp); empty otherwise.
+  std::string undecided;
   BasinStatistics statistics;                    // rank 0
   int continuation_axis = -1;                    // a parameter axis of the grid, if any
   std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis

@@ -1,6 +1,7 @@
 // The basin mappers of a run, called in one fixed order (the first that settles a lane wins):
 // the anchor test at every look, or the stroboscopic cycles when measures.basin.period is given;
-// and the energy trap wherever K has one (unless measures.basin.exact_trap = false). A new mapper is one more file in this folder
+// and the energy trap wherever K has one (unless measures.basin.exact_trap = false); last, the
+// recurrences (any attractor, RunPlan::recurrence) for lanes the others have not settled. A new mapper is one more file in this folder
 // and one more member here; the block runner calls only this set (basin_mapper.hpp).
 #pragma once
 
@@ -11,6 +12,7 @@
 #include "engine/mappers/anchor_test.hpp"
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/mappers/energy_trap.hpp"
+#include "engine/mappers/recurrences.hpp"
 #include "engine/mappers/stroboscopic_cycles.hpp"
 
 namespace cs {
@@ -25,7 +27,8 @@ class MapperSet {
   MapperSet(const RunPlan& plan, LaneClock clock, const Params& uniform)
       : anchors_(plan, autonomous(plan), clock),
         trap_(plan, mapping(plan) && plan.spec.measures.basin->exact_trap, clock, uniform),
-        strobe_(plan, mapping(plan) && !autonomous(plan), clock) {}
+        strobe_(plan, mapping(plan) && !autonomous(plan), clock),
+        recur_(plan, mapping(plan) && plan.recurrence.enabled, clock) {}
 
   void clear(int slot) {
     each([&](auto& m) { m.clear(slot); });
@@ -55,8 +58,9 @@ class MapperSet {
   template <class Lane>
   void arm(int slot, const Lane& x, const Params& c, const Settlement<N>& s) {
     if (s.settled) return;
-    if (anchors_.active() && !(trap_.active() && trap_.decides_alone(x, c)))
-      anchors_.arm(slot, x, c, s);
+    const bool trapped = trap_.active() && trap_.decides_alone(x, c);
+    if (anchors_.active() && !trapped) anchors_.arm(slot, x, c, s);
+    if (recur_.active() && !trapped) recur_.arm(slot, x, c, s);
     if (trap_.active()) trap_.arm(slot, x, c, s);
     if (strobe_.active()) strobe_.arm(slot, x, c, s);
   }
@@ -82,6 +86,12 @@ class MapperSet {
 
   TrapVerdict trap_verdict(const Params& c) const { return trap_.verdict(c); }
 
+  // The lane's record for the attractor table and why it is undecided (Recurrences::record).
+  void recurrence_record(int slot, bool failed, const Settlement<N>& s, double* out,
+                         UndecidedReason& why) const {
+    recur_.record(slot, failed, s, out, why);
+  }
+
  private:
   static bool mapping(const RunPlan& plan) { return plan.map.basin >= 0; }
   static bool autonomous(const RunPlan& plan) {
@@ -100,17 +110,20 @@ class MapperSet {
     if (anchors_.active()) f(anchors_);
     if (trap_.active()) f(trap_);
     if (strobe_.active()) f(strobe_);
+    if (recur_.active()) f(recur_);
   }
   template <class F>
   void each(F&& f) const {
     if (anchors_.active()) f(anchors_);
     if (trap_.active()) f(trap_);
     if (strobe_.active()) f(strobe_);
+    if (recur_.active()) f(recur_);
   }
 
   AnchorTest<D, W> anchors_;
   EnergyTrap<S, Uniform, W> trap_;
   StroboscopicCycles<D, W> strobe_;
+  Recurrences<D, W> recur_;
 };
 
 }  // namespace cs

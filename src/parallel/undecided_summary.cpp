@@ -1,0 +1,57 @@
+#include "parallel/undecided_summary.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cstdint>
+
+#include "engine/recurrence/recurrence_search.hpp"
+#include "mpi/comm.hpp"
+
+namespace cs {
+
+std::string undecided_reasons(const RunPlan& whole,
+                              const std::vector<std::unique_ptr<BlockResults>>& results,
+                              MPI_Comm comm) {
+  if (whole.map.undecided_reason < 0) return "";
+  std::int64_t counts[kUndecidedReasons] = {};
+  for (const auto& block : results) {
+    const auto& labels = block->columns[static_cast<std::size_t>(whole.map.basin)];
+    const auto& reasons = block->columns[static_cast<std::size_t>(whole.map.undecided_reason)];
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      const double why = reasons[i];
+      if (labels[i] == 0.0 && why >= 0.0 && why < kUndecidedReasons)
+        ++counts[static_cast<int>(why)];
+    }
+  }
+  allreduce(comm, counts, kUndecidedReasons, MPI_INT64_T, MPI_SUM);
+  static const char* const what[kUndecidedReasons] = {
+      "settled on no attractor in the table",
+      "no recurrence by t_end (a longer t_end, larger cells: measures.basin.cell_size, or fewer "
+      "measures.basin.recurrences)",
+      "recurred but not located by t_end (a longer t_end or fewer measures.basin.locate)",
+      "left the box (a larger measures.basin.box; it is the grid's range widened by half)",
+      "visited measures.basin.max_cells cells without recurring (larger cells or a larger "
+      "max_cells)",
+      "diverged or failed (see status)",
+      "not looked at by the recurrence mapper: the energy trap's lanes that stopped on an "
+      "unstable equilibrium"};
+  std::int64_t total = 0;
+  std::vector<std::string> parts;
+  for (int r = 0; r < kUndecidedReasons; ++r) {
+    if (counts[r] == 0) continue;
+    total += counts[r];
+    parts.push_back(fmt::format("{} {}", counts[r], what[r]));
+  }
+  if (total == 0) return "";  // nothing to explain: the file stays as it was without the mapper
+  std::string text = fmt::format("{} cells: {}", total, fmt::join(parts, "; "));
+  if (whole.recurrence.period_on_autonomous)
+    text +=
+        "; measures.basin.period is given but K does not depend on t: the system is "
+        "autonomous, and its samples one period apart meet a limit cycle at another phase "
+        "each time (no cycle of the stroboscopic map): leave period out to sample at every "
+        "look";
+  return text;
+}
+
+}  // namespace cs
