@@ -44,7 +44,7 @@ struct ColumnMap {
   int traj_H = -1;
   int basin = -1, settle_time = -1;
   int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
-  int trap_verdict = -1;  // internal: whether the energy trap served the lane (TrapVerdict)
+  int trap_verdict = -1;  // internal, per block: how many lanes had each TrapVerdict
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
 };
 

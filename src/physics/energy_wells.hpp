@@ -48,7 +48,8 @@ struct BasinBox {
 };
 
 // Whether the trap decides a lane's basin, and if not why (the `energy_trap` attribute,
-// basin_summary.cpp). Stored per lane as a number: the values never change.
+// basin_summary.cpp). Counted per block (RunPlan's internal column trap_verdict: how many lanes
+// had each verdict), as numbers: the values never change.
 enum class TrapVerdict : int {
   not_applicable = 0,  // K is not Σp²/2 + V(q) + k·z without t, or exact_trap = false
   used = 1,
@@ -57,6 +58,7 @@ enum class TrapVerdict : int {
   boundary_too_low = 4,  // V on the box's boundary is nowhere above the lowest minimum
   margin_too_large = 5   // the lowest saddle, less the integrator's margin, is not above it
 };
+inline constexpr int kTrapVerdicts = 6;
 
 template <int D>
 struct Wells {
