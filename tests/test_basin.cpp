@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "numerics/contact_splitting.hpp"
@@ -190,6 +191,74 @@ TEST(BasinTrap, LabelsOfChosenStatesMatchAnAccurateReference) {
   // an attractor, which the anchor test alone would take it for).
   EXPECT_EQ(r["basin"][7 * ps.size() + 0], 0.0);
   EXPECT_TRUE(std::isnan(r["settle_time"][7 * ps.size() + 0]));
+}
+
+// A 1-D K with four wells of different depths (minima near ±1, ±2; maxima near 0, ±1.5):
+// V = (q² − 1)²(q² − 4)²/8 + q/20.
+struct FourWells {
+  static constexpr int dof = 1;
+  static constexpr bool z_feeds_back = false;
+  static constexpr bool kz_constant = true;
+  static constexpr bool kz_state_free = true;
+  static constexpr bool time_dependent = false;
+  static constexpr bool p_in_forces = false;
+  static constexpr ZPart z_part = ZPart::linear;
+  template <class T>
+  struct Params {
+    T gamma;
+  };
+  template <class T>
+  static Params<T> params_from(const T* v) { return {v[0]}; }
+  template <class X, class T>
+  static auto K(const X& x, const Params<T>& c) {
+    const auto qq = square(q<0>(x));
+    return half_square(p<0>(x)) + (square(qq - 1.0) * square(qq - 4.0)) * 0.125 +
+           q<0>(x) * 0.05 - c.gamma * z(x);
+  }
+  static bool diverged(const double* q, const double* p) { return beyond_bound<dof>(q, p); }
+};
+
+// One q: the well read off the critical points (WellFinder::bottom) is the steepest descent's,
+// for random trapped states (E = p²/2 + V(q) below the level, inside the box), and every well
+// below the level gets some of them.
+template <class S>
+void expect_lookup_equals_descent(const ParamsOf<S, double>& c, const BasinBox<1>& box,
+                                  std::size_t wells_expected) {
+  const Wells<1> wells = find_wells<S>(c, box, 0.01);
+  ASSERT_EQ(wells.verdict, TrapVerdict::used);
+  ASSERT_EQ(wells.minima.size(), wells_expected);
+  const WellFinder<S> finder(c, wells.box, 0.01);
+  std::mt19937_64 random(26);
+  std::uniform_real_distribution<double> uq(wells.box.lo[0], wells.box.hi[0]), up(-1.5, 1.5);
+  std::vector<int> hits(wells.minima.size(), 0);
+  int trapped = 0;
+  for (int k = 0; k < 200000 && trapped < 5000; ++k) {
+    const double q = uq(random), p = up(random);
+    if (!(0.5 * p * p + potential<S>(&q, c, 0.0) < wells.trap_energy)) continue;
+    ++trapped;
+    const auto looked_up = WellFinder<S>::bottom_on_line(q, wells);
+    const auto descended = finder.descend(&q, wells);
+    ASSERT_TRUE(looked_up.has_value()) << "q " << q;
+    ASSERT_TRUE(descended.has_value()) << "q " << q;
+    ASSERT_EQ((*looked_up)[0], (*descended)[0]) << "q " << q;
+    ASSERT_EQ((*finder.bottom(&q, wells))[0], (*looked_up)[0]) << "q " << q;
+    for (std::size_t m = 0; m < wells.minima.size(); ++m) hits[m] += wells.minima[m] == *looked_up;
+  }
+  EXPECT_EQ(trapped, 5000);
+  for (std::size_t m = 0; m < wells.minima.size(); ++m)
+    EXPECT_GT(hits[m], 100) << "minimum at " << wells.minima[m][0];
+}
+
+TEST(BasinTrap, OneDimensionalLookupEqualsTheDescentOfTheDoubleWell) {
+  BasinBox<1> box;
+  box.lo[0] = -6.0, box.hi[0] = 6.0;  // the paper's map, q0 ∈ [−3, 3]
+  expect_lookup_equals_descent<DoubleWell>({1.0, 0.1}, box, 2);
+}
+
+TEST(BasinTrap, OneDimensionalLookupEqualsTheDescentOfFourWells) {
+  BasinBox<1> box;
+  box.lo[0] = -3.5, box.hi[0] = 3.5;
+  expect_lookup_equals_descent<FourWells>({0.1}, box, 4);
 }
 
 }  // namespace
