@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -45,16 +46,26 @@ const double* point_of(const RunPlan& plan, const BlockResults& block, std::int6
   return block.columns[static_cast<std::size_t>(plan.map.basin_point)].data() + i * width;
 }
 
+// Whether two lanes' points and periods (phase_space + 1 values) are the same bits. Lanes next
+// to each other mostly settle on the very same point (the energy trap's minima, as found once
+// per run): then whatever was found for the one holds for the other, without a search.
+bool same_bits(const double* x, const double* y, int values) {
+  return std::memcmp(x, y, static_cast<std::size_t>(values) * sizeof(double)) == 0;
+}
+
 }  // namespace
 
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
   const int n = phase_space(plan);
   const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   std::vector<Attractor> found;
+  const double* previous = nullptr;  // a sighting already in `found`, or linked to one
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     if (labels[static_cast<std::size_t>(i)] == 0.0) continue;
     const double* point = point_of(plan, block, i);
+    if (previous != nullptr && same_bits(point, previous, n + 1)) continue;
     add_sighting(plan, {point, static_cast<int>(point[n])}, found);
+    previous = point;
   }
   std::vector<double> records;
   for (const Attractor& a : found) {
@@ -94,16 +105,23 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
 void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block) {
   const int n = phase_space(plan);
   auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
+  const double* previous = nullptr;  // the last lane labelled, and its label
+  double previous_label = 0.0;
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     double& label = labels[static_cast<std::size_t>(i)];
     if (label == 0.0) continue;
     const double* point = point_of(plan, block, i);
+    if (previous != nullptr && same_bits(point, previous, n + 1)) {
+      label = previous_label;
+      continue;
+    }
     double nearest = INFINITY;
     for (const Attractor& a : table) {
       if (a.period != static_cast<int>(point[n])) continue;
       const double d = distance(plan, a.point.data(), point);
       if (d < nearest) nearest = d, label = a.label;
     }
+    if (nearest < INFINITY) previous = point, previous_label = label;
   }
 }
 
