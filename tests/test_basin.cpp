@@ -261,5 +261,81 @@ TEST(BasinTrap, OneDimensionalLookupEqualsTheDescentOfFourWells) {
   expect_lookup_equals_descent<FourWells>({0.1}, box, 4);
 }
 
+// A box whose boundary is below the lanes' largest initial energy grows (around the positions,
+// by doublings of the widening) until it is above it: one point q0 = 2 of the double well
+// (E0 = V(2) = 9/2; V > 9/2 only where |q| > 2) gets [2 − 8, 2 + 8], the first whose lower end
+// is below −2. One whose boundary is above E0 (the paper's map) stays as it is; an E0 no box
+// confines leaves the first box.
+TEST(BasinTrap, TheBoxGrowsUntilVOnItsBoundaryIsAboveTheInitialEnergy) {
+  const ParamsOf<DoubleWell, double> c{1.0, 0.1};
+  BasinBox<1> point;
+  point.lo[0] = point.hi[0] = 2.0;
+  const std::array<double, 1> half{0.5};
+  BasinBox<1> box = confining_box<DoubleWell>(c, point, half, 4.5, 0.01);
+  EXPECT_EQ(box.lo[0], -6.0);
+  EXPECT_EQ(box.hi[0], 10.0);
+  const Wells<1> wells = find_wells<DoubleWell>(c, box, 0.01);
+  EXPECT_EQ(wells.verdict, TrapVerdict::used);
+  EXPECT_EQ(wells.minima.size(), 2u);
+  EXPECT_NEAR(wells.trap_energy, 0.5 - 2e-4, 1e-9);  // a⁴/2 − 2h²a⁶, the old trap's level
+  EXPECT_GT(wells.confinement, 4.5);
+  // Unchanged: no growth needed, or none that helps.
+  BasinBox<1> map;
+  map.lo[0] = -3.0, map.hi[0] = 3.0;
+  box = confining_box<DoubleWell>(c, map, {3.0}, 36.5, 0.01);
+  EXPECT_EQ(box.lo[0], -6.0);
+  EXPECT_EQ(box.hi[0], 6.0);
+  box = confining_box<DoubleWell>(c, point, half, 1e12, 0.01);
+  EXPECT_EQ(box.lo[0], 1.5);
+  EXPECT_EQ(box.hi[0], 2.5);
+  // Without growth the point's own box knows the well at +1 alone (Newton reaches q = 1 from
+  // inside [1.5, 2.5]), not the one at −1 where the lane (2, 0) ends: it would never be trapped.
+  const Wells<1> own = find_wells<DoubleWell>(c, box, 0.01);
+  ASSERT_EQ(own.minima.size(), 1u);
+  EXPECT_NEAR(own.minima[0][0], 1.0, 1e-12);
+}
+
+// Maps whose positions do not span the wells: one point (q0, p0) = (2, 0), and q0 ∈ [1.5, 2.5].
+// The trap serves them (every lane's verdict "used") and decides each lane as it does in a map
+// that spans both wells (the same label, the accurate reference's; the same settle time, bit
+// for bit), as the old double-well trap (E < a⁴/2 − 2h²a⁶ at any grid size) did. (2, 0) swings
+// over the saddle once and ends in the well at −1.
+TEST(BasinTrap, MapsThatDoNotSpanTheWellsSettleThroughTheTrap) {
+  const char* spec = R"(
+    [scene]
+    name = "double_well"
+    [integrator]
+    t_end = 100.0
+    [measures]
+    basin = {})";
+  auto verdicts_used = [](const test::Datasets& r) {
+    const auto& v = r.at("trap_verdict");
+    double used = 0.0, all = 0.0;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      all += v[k];
+      if (k % kTrapVerdicts == static_cast<std::size_t>(TrapVerdict::used)) used += v[k];
+    }
+    return used == all ? used : -1.0;
+  };
+  const auto wide = test::run_in_memory(
+      spec, {"grid.q_0={ values = [-3.0, -1.0, 0.5, 1.5, 1.75, 2.0, 2.25, 2.5] }", "grid.p_0={ values = [0.0] }"});
+  const auto one = test::run_in_memory(spec, {"grid.p_0={ values = [0.0] }"});
+  ASSERT_EQ(one.at("basin").size(), 1u);
+  EXPECT_EQ(verdicts_used(one), 1.0);
+  EXPECT_EQ(one.at("basin")[0], -1.0);
+  EXPECT_EQ(one.at("basin")[0], reference_basin(2.0, 0.0));
+  EXPECT_EQ(one.at("basin")[0], wide.at("basin")[5]);
+  EXPECT_EQ(one.at("settle_time")[0], wide.at("settle_time")[5]);
+  EXPECT_LT(one.at("settle_time")[0], 100.0);
+  const auto narrow = test::run_in_memory(
+      spec, {"grid.q_0={ from = 1.5, to = 2.5, n = 5 }", "grid.p_0={ values = [0.0] }"});
+  EXPECT_EQ(verdicts_used(narrow), 5.0);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(narrow.at("basin")[i], wide.at("basin")[3 + i]) << "q0 " << 1.5 + 0.25 * i;
+    EXPECT_EQ(narrow.at("basin")[i], reference_basin(1.5 + 0.25 * i, 0.0)) << "q0 " << 1.5 + 0.25 * i;
+    EXPECT_EQ(narrow.at("settle_time")[i], wide.at("settle_time")[3 + i]) << "q0 " << 1.5 + 0.25 * i;
+  }
+}
+
 }  // namespace
 }  // namespace cs

@@ -127,6 +127,21 @@ class WellFinder {
     return wells;
   }
 
+  // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
+  // 1% of V's range there: a component of {V < E} below it stays inside the box.
+  static constexpr int kBoundarySamples = 512;
+  double boundary_minimum() const {
+    constexpr int n = kBoundarySamples;
+    double least = INFINITY, most = -INFINITY;
+    for (int face = 0; face < D; ++face)
+      for (int side = 0; side < 2; ++side)
+        for (const Point& start : starts_on_face(face, side, n)) {
+          least = std::min(least, V(start));
+          most = std::max(most, V(start));
+        }
+    return least - 0.01 * (most - least);
+  }
+
   // V's least value on one face of the box (the lower one if side = 0), as boundary_minimum()
   // samples it.
   double face_minimum(int face, int side) const {
@@ -343,24 +358,10 @@ class WellFinder {
     return out;
   }
 
-  // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
-  // 1% of V's range there: a component of {V < E} below it stays inside the box.
   double box_width() const {
     double w = 0.0;
     for (int i = 0; i < D; ++i) w = std::max(w, box_.hi[i] - box_.lo[i]);
     return w;
-  }
-  static constexpr int kBoundarySamples = 512;
-  double boundary_minimum() const {
-    constexpr int n = kBoundarySamples;
-    double least = INFINITY, most = -INFINITY;
-    for (int face = 0; face < D; ++face)
-      for (int side = 0; side < 2; ++side)
-        for (const Point& start : starts_on_face(face, side, n)) {
-          least = std::min(least, V(start));
-          most = std::max(most, V(start));
-        }
-    return least - 0.01 * (most - least);
   }
   std::vector<Point> starts_on_face(int face, int side, int n) const {
     std::vector<Point> out;
@@ -441,6 +442,34 @@ Wells<S::dof> find_wells(const ParamsOf<S, double>& c, const BasinBox<S::dof>& b
   const bool better = other.usable > wells.usable ||
                       (other.usable == wells.usable && other.trap_energy > wells.trap_energy);
   return better ? other : wells;
+}
+
+// The box to look for the wells in, for lanes of one parameter set whose positions lie in
+// `positions` and whose energies E = K(q, p, 0) start at most at e0: the positions widened by
+// `widen` on either side (BasinBox), or, when V on that box's boundary is not above e0, widened
+// by 2, 4, … 2⁶ times as much, the first box whose boundary is. E never rises, so no such lane
+// ever reaches that boundary, and every critical point of V it could meet is inside: a map
+// that does not span the wells (one initial point, q0 ∈ [1.5, 2.5] for the double well) still
+// finds them. No such box (V bounded, or unbounded below; the wells too far): the first box.
+// A box whose boundary is already above e0 is kept as it is: its wells are what they were.
+template <Scene S>
+BasinBox<S::dof> confining_box(const ParamsOf<S, double>& c, const BasinBox<S::dof>& positions,
+                               const std::array<double, S::dof>& widen, double e0, double h) {
+  constexpr int D = S::dof;
+  constexpr int kDoublings = 6;
+  auto widened = [&](double factor) {
+    BasinBox<D> box;
+    for (int d = 0; d < D; ++d)
+      box.lo[d] = positions.lo[d] - factor * widen[d], box.hi[d] = positions.hi[d] + factor * widen[d];
+    return box;
+  };
+  const BasinBox<D> first = widened(1.0);
+  if (!std::isfinite(e0)) return first;
+  for (int k = 0; k <= kDoublings; ++k) {
+    const BasinBox<D> box = widened(std::ldexp(1.0, k));
+    if (WellFinder<S>(c, box, h).boundary_minimum() > e0) return box;
+  }
+  return first;
 }
 
 }  // namespace cs

@@ -13,6 +13,7 @@
 #include <limits>
 #include <mutex>
 #include <utility>
+#include <vector>
 
 #include "engine/attractor_search.hpp"
 #include "engine/mappers/basin_mapper.hpp"
@@ -35,7 +36,15 @@ class EnergyTrap {
         uniform_params_(uniform) {
     if (!active_) return;
     for (int d = 0; d < D; ++d) angle_period_[d] = plan.attractors.angle_period[static_cast<std::size_t>(d)];
-    grid_box_ = basin_box(plan);
+    for (int d = 0; d < D; ++d) {
+      q_values_[d] = values_of(plan, d);
+      p_values_[d] = values_of(plan, D + d);
+      // The map's positions (BasinBox): the spec's q with its axis's values.
+      double lo = plan.spec.initial.at(plan.scene.variables[static_cast<std::size_t>(d)].name), hi = lo;
+      for (double v : q_values_[d]) lo = std::min(lo, v), hi = std::max(hi, v);
+      positions_.lo[d] = lo, positions_.hi[d] = hi;
+      widen_[d] = 0.5 * std::max(hi - lo, 1.0);
+    }
     if constexpr (Uniform) {
       uniform_wells_ = &wells_for(uniform);
       uniform_box_ = uniform_wells_->box;
@@ -150,19 +159,42 @@ class EnergyTrap {
   }
 
  private:
-  // The box the map's positions lie in (BasinBox): each q's range over the grid, widened.
-  static BasinBox<D> basin_box(const RunPlan& plan) {
-    BasinBox<D> box;
+  // The values a state variable (q.., p..) takes over the grid: its axis's, else the spec's one.
+  static std::vector<double> values_of(const RunPlan& plan, int variable) {
+    const std::string& name = plan.scene.variables[static_cast<std::size_t>(variable)].name;
+    for (const auto& axis : plan.spec.axes)
+      if (!axis.is_parameter && !axis.is_step_size && axis.target == name) return axis.values;
+    return {plan.spec.initial.at(name)};
+  }
+
+  // The largest initial energy E₀ = K(q₀, p₀, 0) = Σp₀²/2 + V(q₀) of the lanes with parameters
+  // c. The grid is a product of axes, so those lanes start at every combination of the state
+  // axes' values: E₀ is a function of c and the spec alone (the same on every rank and thread).
+  // Its kinetic part is the sum of each p's largest p²/2; V is taken at every combination of
+  // the q axes' values, up to 2²² of them (more: +∞, the box is not grown).
+  double largest_initial_energy(const Params& c) const {
+    if constexpr (!has_energy_trap<S>()) return INFINITY;
+    double kinetic = 0.0, potential_max = -INFINITY;
+    std::int64_t combinations = 1;
     for (int d = 0; d < D; ++d) {
-      const std::string& name = plan.scene.variables[static_cast<std::size_t>(d)].name;
-      double lo = plan.spec.initial.at(name), hi = lo;
-      for (const auto& axis : plan.spec.axes)
-        if (!axis.is_parameter && !axis.is_step_size && axis.target == name)
-          for (double v : axis.values) lo = std::min(lo, v), hi = std::max(hi, v);
-      const double widen = 0.5 * std::max(hi - lo, 1.0);
-      box.lo[d] = lo - widen, box.hi[d] = hi + widen;
+      double most = 0.0;
+      for (double p : p_values_[d]) most = std::max(most, 0.5 * (p * p));
+      kinetic += most;
+      combinations *= static_cast<std::int64_t>(q_values_[d].size());
+      if (combinations > (std::int64_t{1} << 22)) return INFINITY;
     }
-    return box;
+    std::array<std::size_t, D> index{};
+    while (true) {
+      double q[D];
+      for (int d = 0; d < D; ++d) q[d] = q_values_[d][index[d]];
+      double v = INFINITY;
+      if constexpr (has_energy_trap<S>()) v = potential<S>(q, c, 0.0);
+      if (!(v <= potential_max)) potential_max = std::isnan(v) ? INFINITY : v;
+      int d = 0;
+      while (d < D && ++index[d] == q_values_[d].size()) index[d++] = 0;
+      if (d == D) break;
+    }
+    return kinetic + potential_max;
   }
 
   const Wells<D>& wells_of(const Params& c) const {
@@ -170,25 +202,29 @@ class EnergyTrap {
     else return wells_for(c);
   }
 
-  // The wells of one parameter set, in the box find_wells() chose for it, found once per process
-  // and kept (~0.1 s for the magnetic pendulum; the same bits whichever thread finds them).
-  // Entries are never removed, so the references handed out stay valid; a grid has few
-  // distinct parameter sets.
+  // The wells of one parameter set, in the box confining_box() and find_wells() chose for it,
+  // found once per process and kept (~0.1 s for the magnetic pendulum; the same bits whichever
+  // thread finds them). Entries are never removed, so the references handed out stay valid; a
+  // grid has few distinct parameter sets. The box depends on c, the positions and E₀ alone.
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
-      BasinBox<D> box;
-      double h;
+      BasinBox<D> positions;
+      std::array<double, D> widen;
+      double e0, h;
       Wells<D> wells;
     };
     static std::mutex mutex;
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
+    const double e0 = largest_initial_energy(c);
     for (const Known& k : known)
-      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == grid_box_.lo &&
-          k.box.hi == grid_box_.hi && k.h == clock_.h)
+      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
+          k.positions.hi == positions_.hi && k.widen == widen_ &&
+          std::memcmp(&k.e0, &e0, sizeof e0) == 0 && k.h == clock_.h)
         return k.wells;
-    known.push_back({c, grid_box_, clock_.h, find_wells<S>(c, grid_box_, clock_.h)});
+    const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
+    known.push_back({c, positions_, widen_, e0, clock_.h, find_wells<S>(c, box, clock_.h)});
     return known.back().wells;
   }
 
@@ -198,7 +234,9 @@ class EnergyTrap {
   double tolerance_;  // the anchor test's (refuses)
   double angle_period_[D] = {};
   Params uniform_params_;
-  BasinBox<D> grid_box_{};                // the map's positions, widened (basin_box)
+  BasinBox<D> positions_{};        // each q's range over the grid
+  std::array<double, D> widen_{};  // … and how far the box extends beyond it (BasinBox)
+  std::vector<double> q_values_[D], p_values_[D];  // each q's and p's values over the grid
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
   BasinBox<D> uniform_box_{};                // … and their box, read by the screen
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
