@@ -236,12 +236,13 @@ void expect_lookup_equals_descent(const ParamsOf<S, double>& c, const BasinBox<1
     const double q = uq(random), p = up(random);
     if (!(0.5 * p * p + potential<S>(&q, c, 0.0) < wells.trap_energy)) continue;
     ++trapped;
-    const auto looked_up = WellFinder<S>::bottom_on_line(q, wells);
-    const auto descended = finder.descend(&q, wells);
-    ASSERT_TRUE(looked_up.has_value()) << "q " << q;
-    ASSERT_TRUE(descended.has_value()) << "q " << q;
-    ASSERT_EQ((*looked_up)[0], (*descended)[0]) << "q " << q;
-    ASSERT_EQ((*finder.bottom(&q, wells))[0], (*looked_up)[0]) << "q " << q;
+    const std::array<double, 1>* looked_up = WellFinder<S>::bottom_on_line(q, wells);
+    std::array<double, 1> descended{}, bottom{};
+    ASSERT_NE(looked_up, nullptr) << "q " << q;
+    ASSERT_TRUE(finder.descend(&q, wells, descended)) << "q " << q;
+    ASSERT_EQ((*looked_up)[0], descended[0]) << "q " << q;
+    ASSERT_TRUE(finder.bottom(&q, wells, bottom)) << "q " << q;
+    ASSERT_EQ(bottom[0], (*looked_up)[0]) << "q " << q;
     for (std::size_t m = 0; m < wells.minima.size(); ++m) hits[m] += wells.minima[m] == *looked_up;
   }
   EXPECT_EQ(trapped, 5000);

@@ -22,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -154,40 +153,42 @@ class WellFinder {
   // find. One q: read off the critical points (bottom_on_line). Else steepest descent with
   // steps 1/κ, halved until V falls (so it never hops over a ridge into a lower well), then the
   // nearest of the minima found.
-  // Empty when the descent ends at no minimum found at set-up (one was missed): the lane is
-  // then not trapped, and settles on line instead.
-  std::optional<Point> bottom(const double* q, const Wells<D>& wells) const {
-    if (wells.minima.size() == 1) return wells.minima.front();
-    if constexpr (D == 1) {
-      if (const auto m = bottom_on_line(q[0], wells)) return *m;
-    }
-    return descend(q, wells);
+  // False when the descent ends at no minimum found at set-up (one was missed): the lane is
+  // then not trapped, and settles on line instead. (An out parameter rather than an optional:
+  // copying the optional's flag and point through the stack stalled every trapped lane's look.)
+  bool bottom(const double* q, const Wells<D>& wells, Point& minimum) const {
+    const Point* known = wells.minima.size() == 1 ? &wells.minima.front() : nullptr;
+    if constexpr (D == 1)
+      if (known == nullptr) known = bottom_on_line(q[0], wells);
+    if (known == nullptr) return descend(q, wells, minimum);
+    minimum = *known;
+    return true;
   }
 
   // One q (exact, no descent): a trapped lane's E is below V at every unstable critical point,
   // so the interval of {V < E} that holds it lies strictly between the nearest unstable points
   // on either side and inside the box (V is above the level on its ends), and holds no other
   // critical point than its one minimum: V is monotone on either side of it. Empty when that
-  // interval holds no minimum or several (critical points missed at set-up): then the descent
-  // decides, as before.
-  static std::optional<Point> bottom_on_line(double q, const Wells<D>& wells) requires(D == 1) {
+  // interval holds no minimum or several (critical points missed at set-up): null, and the
+  // descent decides, as before.
+  static const Point* bottom_on_line(double q, const Wells<D>& wells) requires(D == 1) {
     double left = wells.box.lo[0], right = wells.box.hi[0];
     for (const Point& u : wells.unstable) {
       if (u[0] < q) left = std::max(left, u[0]);
       else if (u[0] > q) right = std::min(right, u[0]);
-      else return std::nullopt;  // on an unstable point: never below the level
+      else return nullptr;  // on an unstable point: never below the level
     }
-    std::optional<Point> found;
+    const Point* found = nullptr;
     for (const Point& m : wells.minima)
       if (m[0] > left && m[0] < right) {
-        if (found) return std::nullopt;
-        found = m;
+        if (found != nullptr) return nullptr;
+        found = &m;
       }
     return found;
   }
 
   // The steepest descent of bottom() (any D).
-  std::optional<Point> descend(const double* q, const Wells<D>& wells) const {
+  bool descend(const double* q, const Wells<D>& wells, Point& minimum) const {
     Point x;
     std::copy(q, q + D, x.begin());
     const double step = 1.0 / wells.curvature;
@@ -208,8 +209,9 @@ class WellFinder {
       if (nearest(x, wells).second < kSettled) break;
     }
     const auto [m, d] = nearest(x, wells);
-    if (d < kSettled) return m;
-    return std::nullopt;
+    if (!(d < kSettled)) return false;
+    minimum = m;
+    return true;
   }
 
  private:

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -68,15 +69,15 @@ class EnergyTrap {
       for (int d = 0; d < D; ++d)
         if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
-      const auto bottom = WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells);
-      if (!bottom) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
+      std::array<double, D> bottom;
+      if (!WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells, bottom)) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
         lost_ = true;
         disarm(slot);
         return;
       }
       s.settled = true;
       s.period = 1;
-      for (int d = 0; d < D; ++d) s.point[d] = (*bottom)[d], s.point[D + d] = 0.0;
+      for (int d = 0; d < D; ++d) s.point[d] = bottom[d], s.point[D + d] = 0.0;
       s.settle_time = clock_.at(n);
     }
   }
