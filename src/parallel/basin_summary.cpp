@@ -37,6 +37,16 @@ int first_parameter_axis(const RunSpec& spec) {
 std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
                                          const std::vector<std::unique_ptr<BlockResults>>& results,
                                          MPI_Comm comm) {
+  if (serial(comm)) {  // one process: straight from the blocks (gather would copy them twice)
+    std::vector<BasinLabel> labels(static_cast<std::size_t>(whole.grid.size()));
+    for (const auto& block : results) {
+      const auto& column = block->columns[static_cast<std::size_t>(whole.map.basin)];
+      for (std::int64_t i = block->range.begin; i < block->range.end; ++i)
+        labels[static_cast<std::size_t>(i)] =
+            static_cast<BasinLabel>(column[static_cast<std::size_t>(i - block->range.begin)]);
+    }
+    return labels;
+  }
   std::vector<double> mine;
   for (const auto& block : results) {
     mine.push_back(static_cast<double>(block->range.begin));
