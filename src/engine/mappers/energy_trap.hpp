@@ -198,35 +198,55 @@ class EnergyTrap {
     return kinetic + potential_max;
   }
 
+  // Per lane parameters: the wells of each parameter set this trap has met, kept here (a runner's
+  // own, so no lock): wells_for() computes E₀ and takes the process-wide lock once per set, not
+  // once per look (E₀ visits every combination of the q axes' values).
   const Wells<D>& wells_of(const Params& c) const {
     if constexpr (Uniform) return *uniform_wells_;
-    else return wells_for(c);
+    else {
+      // Neighbouring lanes mostly share their parameters: the last set met is tried first.
+      if (last_ < seen_.size() && std::memcmp(&seen_[last_].first, &c, sizeof c) == 0)
+        return *seen_[last_].second;
+      for (last_ = 0; last_ < seen_.size(); ++last_)
+        if (std::memcmp(&seen_[last_].first, &c, sizeof c) == 0) return *seen_[last_].second;
+      seen_.emplace_back(c, &wells_for(c));
+      return *seen_.back().second;
+    }
   }
 
   // The wells of one parameter set, in the box confining_box() and find_wells() chose for it,
   // found once per process and kept (~0.1 s for the magnetic pendulum; the same bits whichever
   // thread finds them). Entries are never removed, so the references handed out stay valid; a
-  // grid has few distinct parameter sets. The box depends on c, the positions and E₀ alone.
+  // grid has few distinct parameter sets. The box depends on c, the positions and the state
+  // axes' values (E₀) alone: those are the key, and E₀ is computed once per entry (it visits
+  // every combination of the q axes' values; per block it cost seconds on a 512² map).
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
       BasinBox<D> positions;
       std::array<double, D> widen;
-      double e0, h;
+      std::vector<double> q_values[D], p_values[D];
+      double h;
       Wells<D> wells;
+    };
+    auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
     };
     static std::mutex mutex;
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
+    for (const Known& k : known) {
+      bool hit = std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
+                 k.positions.hi == positions_.hi && k.widen == widen_ && k.h == clock_.h;
+      for (int d = 0; d < D && hit; ++d)
+        hit = same(k.q_values[d], q_values_[d]) && same(k.p_values[d], p_values_[d]);
+      if (hit) return k.wells;
+    }
     const double e0 = largest_initial_energy(c);
-    for (const Known& k : known)
-      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
-          k.positions.hi == positions_.hi && k.widen == widen_ &&
-          std::memcmp(&k.e0, &e0, sizeof e0) == 0 && k.h == clock_.h)
-        return k.wells;
     const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
-    known.push_back({c, positions_, widen_, e0, clock_.h, find_wells<S>(c, box, clock_.h)});
-    return known.back().wells;
+    Known k{c, positions_, widen_, {}, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
+    for (int d = 0; d < D; ++d) k.q_values[d] = q_values_[d], k.p_values[d] = p_values_[d];
+    return known.emplace_back(std::move(k)).wells;
   }
 
   bool active_;
@@ -238,6 +258,8 @@ class EnergyTrap {
   BasinBox<D> positions_{};        // each q's range over the grid
   std::array<double, D> widen_{};  // … and how far the box extends beyond it (BasinBox)
   std::vector<double> q_values_[D], p_values_[D];  // each q's and p's values over the grid
+  mutable std::vector<std::pair<Params, const Wells<D>*>> seen_;  // wells_of (not Uniform)
+  mutable std::size_t last_ = 0;  // … the one met last
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
   BasinBox<D> uniform_box_{};                // … and their box, read by the screen
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
