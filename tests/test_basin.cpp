@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "numerics/method_list.hpp"
@@ -182,6 +183,151 @@ TEST(BasinTrap, LabelsOfChosenStatesMatchAnAccurateReference) {
   // an attractor, which the anchor test alone would take it for).
   EXPECT_EQ(r["basin"][7 * ps.size() + 0], 0.0);
   EXPECT_TRUE(std::isnan(r["settle_time"][7 * ps.size() + 0]));
+}
+
+// A 1-D K with four wells of different depths (minima near ±1, ±2; maxima near 0, ±1.5):
+// V = (q² − 1)²(q² − 4)²/8 + q/20.
+struct FourWells {
+  static constexpr int dof = 1;
+  static constexpr bool z_feeds_back = false;
+  static constexpr bool kz_constant = true;
+  static constexpr bool kz_state_free = true;
+  static constexpr bool time_dependent = false;
+  static constexpr bool p_in_forces = false;
+  static constexpr ZPart z_part = ZPart::linear;
+  template <class T>
+  struct Params {
+    T gamma;
+  };
+  template <class T>
+  static Params<T> params_from(const T* v) { return {v[0]}; }
+  template <class X, class T>
+  static auto K(const X& x, const Params<T>& c) {
+    const auto qq = square(q<0>(x));
+    return half_square(p<0>(x)) + (square(qq - 1.0) * square(qq - 4.0)) * 0.125 +
+           q<0>(x) * 0.05 - c.gamma * z(x);
+  }
+  static bool diverged(const double* q, const double* p) { return beyond_bound<dof>(q, p); }
+};
+
+// One q: the well read off the critical points (WellFinder::bottom) is the steepest descent's,
+// for random trapped states (E = p²/2 + V(q) below the level, inside the box), and every well
+// below the level gets some of them.
+template <class S>
+void expect_lookup_equals_descent(const ParamsOf<S, double>& c, const BasinBox<1>& box,
+                                  std::size_t wells_expected) {
+  const Wells<1> wells = find_wells<S>(c, box, 0.01);
+  ASSERT_EQ(wells.verdict, TrapVerdict::used);
+  ASSERT_EQ(wells.minima.size(), wells_expected);
+  const WellFinder<S> finder(c, wells.box, 0.01);
+  std::mt19937_64 random(26);
+  std::uniform_real_distribution<double> uq(wells.box.lo[0], wells.box.hi[0]), up(-1.5, 1.5);
+  std::vector<int> hits(wells.minima.size(), 0);
+  int trapped = 0;
+  for (int k = 0; k < 200000 && trapped < 5000; ++k) {
+    const double q = uq(random), p = up(random);
+    if (!(0.5 * p * p + potential<S>(&q, c, 0.0) < wells.trap_energy)) continue;
+    ++trapped;
+    const std::array<double, 1>* looked_up = WellFinder<S>::bottom_on_line(q, wells);
+    std::array<double, 1> descended{}, bottom{};
+    ASSERT_NE(looked_up, nullptr) << "q " << q;
+    ASSERT_TRUE(finder.descend(&q, wells, descended)) << "q " << q;
+    ASSERT_EQ((*looked_up)[0], descended[0]) << "q " << q;
+    ASSERT_TRUE(finder.bottom(&q, wells, bottom)) << "q " << q;
+    ASSERT_EQ(bottom[0], (*looked_up)[0]) << "q " << q;
+    for (std::size_t m = 0; m < wells.minima.size(); ++m) hits[m] += wells.minima[m] == *looked_up;
+  }
+  EXPECT_EQ(trapped, 5000);
+  for (std::size_t m = 0; m < wells.minima.size(); ++m)
+    EXPECT_GT(hits[m], 100) << "minimum at " << wells.minima[m][0];
+}
+
+TEST(BasinTrap, OneDimensionalLookupEqualsTheDescentOfTheDoubleWell) {
+  BasinBox<1> box;
+  box.lo[0] = -6.0, box.hi[0] = 6.0;  // the paper's map, q0 ∈ [−3, 3]
+  expect_lookup_equals_descent<DoubleWell>({1.0, 0.1}, box, 2);
+}
+
+TEST(BasinTrap, OneDimensionalLookupEqualsTheDescentOfFourWells) {
+  BasinBox<1> box;
+  box.lo[0] = -3.5, box.hi[0] = 3.5;
+  expect_lookup_equals_descent<FourWells>({0.1}, box, 4);
+}
+
+// A box whose boundary is below the lanes' largest initial energy grows (around the positions,
+// by doublings of the widening) until it is above it: one point q0 = 2 of the double well
+// (E0 = V(2) = 9/2; V > 9/2 only where |q| > 2) gets [2 − 8, 2 + 8], the first whose lower end
+// is below −2. One whose boundary is above E0 (the paper's map) stays as it is; an E0 no box
+// confines leaves the first box.
+TEST(BasinTrap, TheBoxGrowsUntilVOnItsBoundaryIsAboveTheInitialEnergy) {
+  const ParamsOf<DoubleWell, double> c{1.0, 0.1};
+  BasinBox<1> point;
+  point.lo[0] = point.hi[0] = 2.0;
+  const std::array<double, 1> half{0.5};
+  BasinBox<1> box = confining_box<DoubleWell>(c, point, half, 4.5, 0.01);
+  EXPECT_EQ(box.lo[0], -6.0);
+  EXPECT_EQ(box.hi[0], 10.0);
+  const Wells<1> wells = find_wells<DoubleWell>(c, box, 0.01);
+  EXPECT_EQ(wells.verdict, TrapVerdict::used);
+  EXPECT_EQ(wells.minima.size(), 2u);
+  EXPECT_NEAR(wells.trap_energy, 0.5 - 2e-4, 1e-9);  // a⁴/2 − 2h²a⁶, the old trap's level
+  EXPECT_GT(wells.confinement, 4.5);
+  // Unchanged: no growth needed, or none that helps.
+  BasinBox<1> map;
+  map.lo[0] = -3.0, map.hi[0] = 3.0;
+  box = confining_box<DoubleWell>(c, map, {3.0}, 36.5, 0.01);
+  EXPECT_EQ(box.lo[0], -6.0);
+  EXPECT_EQ(box.hi[0], 6.0);
+  box = confining_box<DoubleWell>(c, point, half, 1e12, 0.01);
+  EXPECT_EQ(box.lo[0], 1.5);
+  EXPECT_EQ(box.hi[0], 2.5);
+  // Without growth the point's own box knows the well at +1 alone (Newton reaches q = 1 from
+  // inside [1.5, 2.5]), not the one at −1 where the lane (2, 0) ends: it would never be trapped.
+  const Wells<1> own = find_wells<DoubleWell>(c, box, 0.01);
+  ASSERT_EQ(own.minima.size(), 1u);
+  EXPECT_NEAR(own.minima[0][0], 1.0, 1e-12);
+}
+
+// Maps whose positions do not span the wells: one point (q0, p0) = (2, 0), and q0 ∈ [1.5, 2.5].
+// The trap serves them (every lane's verdict "used") and decides each lane as it does in a map
+// that spans both wells (the same label, the accurate reference's; the same settle time, bit
+// for bit), as the old double-well trap (E < a⁴/2 − 2h²a⁶ at any grid size) did. (2, 0) swings
+// over the saddle once and ends in the well at −1.
+TEST(BasinTrap, MapsThatDoNotSpanTheWellsSettleThroughTheTrap) {
+  const char* spec = R"(
+    [scene]
+    name = "double_well"
+    [integrator]
+    t_end = 100.0
+    [measures]
+    basin = {})";
+  auto verdicts_used = [](const test::Datasets& r) {
+    const auto& v = r.at("trap_verdict");
+    double used = 0.0, all = 0.0;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      all += v[k];
+      if (k % kTrapVerdicts == static_cast<std::size_t>(TrapVerdict::used)) used += v[k];
+    }
+    return used == all ? used : -1.0;
+  };
+  const auto wide = test::run_in_memory(
+      spec, {"grid.q_0={ values = [-3.0, -1.0, 0.5, 1.5, 1.75, 2.0, 2.25, 2.5] }", "grid.p_0={ values = [0.0] }"});
+  const auto one = test::run_in_memory(spec, {"grid.p_0={ values = [0.0] }"});
+  ASSERT_EQ(one.at("basin").size(), 1u);
+  EXPECT_EQ(verdicts_used(one), 1.0);
+  EXPECT_EQ(one.at("basin")[0], -1.0);
+  EXPECT_EQ(one.at("basin")[0], reference_basin(2.0, 0.0));
+  EXPECT_EQ(one.at("basin")[0], wide.at("basin")[5]);
+  EXPECT_EQ(one.at("settle_time")[0], wide.at("settle_time")[5]);
+  EXPECT_LT(one.at("settle_time")[0], 100.0);
+  const auto narrow = test::run_in_memory(
+      spec, {"grid.q_0={ from = 1.5, to = 2.5, n = 5 }", "grid.p_0={ values = [0.0] }"});
+  EXPECT_EQ(verdicts_used(narrow), 5.0);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(narrow.at("basin")[i], wide.at("basin")[3 + i]) << "q0 " << 1.5 + 0.25 * i;
+    EXPECT_EQ(narrow.at("basin")[i], reference_basin(1.5 + 0.25 * i, 0.0)) << "q0 " << 1.5 + 0.25 * i;
+    EXPECT_EQ(narrow.at("settle_time")[i], wide.at("settle_time")[3 + i]) << "q0 " << 1.5 + 0.25 * i;
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "engine/attractor_table.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -57,17 +58,30 @@ const double* point_of(const RunPlan& plan, const BlockResults& block, std::int6
   return block.columns[static_cast<std::size_t>(plan.map.basin_point)].data() + i * width;
 }
 
+// Whether two lanes' points and periods (phase_space + 1 values) are the same bits. Lanes next
+// to each other mostly settle on the very same point (the energy trap's minima, as found once
+// per run): then whatever was found for the one holds for the other, without a search.
+// A loop, not memcmp: a call to the library's memcmp per lane cost more than it saved.
+bool same_bits(const double* x, const double* y, int values) {
+  for (int k = 0; k < values; ++k)
+    if (std::bit_cast<std::uint64_t>(x[k]) != std::bit_cast<std::uint64_t>(y[k])) return false;
+  return true;
+}
+
 }  // namespace
 
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
   const int n = phase_space(plan);
   const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   std::vector<Attractor> found;
+  const double* previous = nullptr;  // a sighting already in `found`, or linked to one
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     if (labels[static_cast<std::size_t>(i)] == 0.0) continue;
     const double* point = point_of(plan, block, i);
     if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
+    if (previous != nullptr && same_bits(point, previous, n + 1)) continue;
     add_sighting(plan, {point, static_cast<int>(point[n])}, found);
+    previous = point;
   }
   const std::size_t width = record_width(plan);
   std::vector<double> records;
@@ -115,6 +129,8 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
 void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block) {
   const int n = phase_space(plan);
   auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
+  const double* previous = nullptr;  // the last lane labelled, and its label
+  double previous_label = 0.0;
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     double& label = labels[static_cast<std::size_t>(i)];
     if (label == 0.0) continue;
@@ -124,12 +140,17 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& table, Block
       label = recurrence_label(table, &cells[static_cast<std::size_t>(i) * RecurrenceSearch::kRecordWidth]);
       continue;
     }
+    if (previous != nullptr && same_bits(point, previous, n + 1)) {
+      label = previous_label;
+      continue;
+    }
     double nearest = INFINITY;
     for (const Attractor& a : table) {
       if (a.period != static_cast<int>(point[n])) continue;
       const double d = distance(plan, a.point.data(), point);
       if (d < nearest) nearest = d, label = a.label;
     }
+    if (nearest < INFINITY) previous = point, previous_label = label;
   }
 }
 

@@ -89,7 +89,8 @@ class LaneWriter {
     }
     if (map.sync_r >= 0) finite = finish_sync(b, status) && finite;
     if (map.basin >= 0) finish_basin(b, status);
-    if (map.trap_verdict >= 0) column(map.trap_verdict, k)[0] = static_cast<double>(verdict);
+    if (map.trap_verdict >= 0)
+      out_.columns[static_cast<std::size_t>(map.trap_verdict)][static_cast<std::size_t>(verdict)] += 1.0;
     if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
     column(map.status, k)[0] = static_cast<double>(status);
     if (plan_.samples > 0 && status != LaneStatus::ok) {

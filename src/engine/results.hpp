@@ -17,6 +17,7 @@ struct ColumnSpec {
   DatasetSpec dataset;
   std::int64_t width = 1;
   bool internal = false;  // kept in the journal, never written to the output
+  bool per_block = false;  // internal: `width` values for the whole block, not for each point
 };
 
 // The values of every column for one contiguous range of points.
@@ -30,7 +31,8 @@ struct BlockResults {
 
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;
-    for (const auto& s : specs) columns.emplace_back(static_cast<std::size_t>(n * s.width), 0.0);
+    for (const auto& s : specs)
+      columns.emplace_back(static_cast<std::size_t>(s.per_block ? s.width : n * s.width), 0.0);
   }
 };
 

@@ -158,12 +158,17 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
                          "time from which the lane stayed near its attractor", "time", {}, "",
                          std::nullopt});
   const int phase_space = 2 * scene.dof;
-  // Whether the energy trap (energy_wells.hpp) served each lane, and if not why: the kernel
-  // alone can tell (it evaluates V), so each lane reports it (BasinSummary::energy_trap).
-  if (basin.exact_trap)
+  // Whether the energy trap (energy_wells.hpp) served the lanes, and if not why: the kernel
+  // alone can tell (it evaluates V), so each block counts its lanes' verdicts, one count per
+  // TrapVerdict (BasinSummary::energy_trap). Per block, not per point: a verdict depends on the
+  // lane's parameters alone, so a whole map mostly has one; a column per point cost 1–2 % of
+  // the double well's map (zeroed, copied, journalled).
+  if (basin.exact_trap) {
     map.trap_verdict = add({"trap_verdict", ElementType::float64, false, "", "", {}, "",
                             std::nullopt},
-                           1, true);
+                           kTrapVerdicts, true);
+    columns.back().per_block = true;
+  }
   map.basin_point = add({"basin_point", ElementType::float64, false, "", "", {}, "",
                          std::nullopt},
                         phase_space + 1, true);

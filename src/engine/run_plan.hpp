@@ -45,7 +45,7 @@ struct ColumnMap {
   int traj_H = -1;
   int basin = -1, settle_time = -1;
   int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
-  int trap_verdict = -1;  // internal: whether the energy trap served the lane (TrapVerdict)
+  int trap_verdict = -1;  // internal, per block: how many lanes had each TrapVerdict
   // internal, where the recurrence mapper runs: a lane's record (RecurrenceSearch) and why it
   // ended undecided (UndecidedReason)
   int basin_cells = -1, undecided_reason = -1;

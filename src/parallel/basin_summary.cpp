@@ -38,6 +38,16 @@ int first_parameter_axis(const RunSpec& spec) {
 std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
                                          const std::vector<std::unique_ptr<BlockResults>>& results,
                                          MPI_Comm comm) {
+  if (serial(comm)) {  // one process: straight from the blocks (gather would copy them twice)
+    std::vector<BasinLabel> labels(static_cast<std::size_t>(whole.grid.size()));
+    for (const auto& block : results) {
+      const auto& column = block->columns[static_cast<std::size_t>(whole.map.basin)];
+      for (std::int64_t i = block->range.begin; i < block->range.end; ++i)
+        labels[static_cast<std::size_t>(i)] =
+            static_cast<BasinLabel>(column[static_cast<std::size_t>(i - block->range.begin)]);
+    }
+    return labels;
+  }
   std::vector<double> mine;
   for (const auto& block : results) {
     mine.push_back(static_cast<double>(block->range.begin));
@@ -57,16 +67,17 @@ std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
 }
 
 // Collective. Whether the energy trap served the lanes (energy_wells.hpp, TrapVerdict), from
-// each lane's verdict: "used", or "not used: why", or both with their counts.
+// each block's count of its lanes' verdicts: "used", or "not used: why", or both with their counts.
 std::string energy_trap_verdict(const RunPlan& whole,
                                 const std::vector<std::unique_ptr<BlockResults>>& results,
                                 MPI_Comm comm) {
   if (whole.map.trap_verdict < 0) return "not used: measures.basin.exact_trap = false";
-  constexpr int kVerdicts = 6;
+  constexpr int kVerdicts = kTrapVerdicts;
   std::int64_t counts[kVerdicts] = {};
-  for (const auto& block : results)
-    for (double v : block->columns[static_cast<std::size_t>(whole.map.trap_verdict)])
-      if (v >= 0 && v < kVerdicts) ++counts[static_cast<int>(v)];
+  for (const auto& block : results) {
+    const auto& column = block->columns[static_cast<std::size_t>(whole.map.trap_verdict)];
+    for (int v = 0; v < kVerdicts; ++v) counts[v] += static_cast<std::int64_t>(column[static_cast<std::size_t>(v)]);
+  }
   allreduce(comm, counts, kVerdicts, MPI_INT64_T, MPI_SUM);
   static const char* const why[kVerdicts] = {
       "K is not p^2/2 + V(q) + k*z without t, so no energy is known never to rise",

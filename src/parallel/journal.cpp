@@ -261,7 +261,12 @@ std::string Journal::block_name(std::int64_t begin) {
 }
 
 void Journal::save(const BlockResults& block) const {
-  std::string bytes(kBlockMagic, sizeof kBlockMagic);
+  // Reserved whole: appending to a growing string copied a block's columns about twice more.
+  std::size_t size = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) + sizeof(std::uint64_t);
+  for (const auto& col : block.columns) size += sizeof(std::int64_t) + col.size() * sizeof(double);
+  std::string bytes;
+  bytes.reserve(size);
+  bytes.append(kBlockMagic, sizeof kBlockMagic);
   auto put = [&](const void* p, std::size_t n) { bytes.append(static_cast<const char*>(p), n); };
   std::string stamp = run_id_;
   stamp.resize(kRunIdBytes, ' ');

@@ -90,7 +90,8 @@ std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& bloc
 
 double values_per_point(const RunPlan& plan) {
   double values = 0.0;
-  for (const auto& column : plan.columns) values += static_cast<double>(column.width);
+  for (const auto& column : plan.columns)
+    if (!column.per_block) values += static_cast<double>(column.width);
   return values;
 }
 

@@ -22,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -48,7 +47,8 @@ struct BasinBox {
 };
 
 // Whether the trap decides a lane's basin, and if not why (the `energy_trap` attribute,
-// basin_summary.cpp). Stored per lane as a number: the values never change.
+// basin_summary.cpp). Counted per block (RunPlan's internal column trap_verdict: how many lanes
+// had each verdict), as numbers: the values never change.
 enum class TrapVerdict : int {
   not_applicable = 0,  // K is not Σp²/2 + V(q) + k·z without t, or exact_trap = false
   used = 1,
@@ -57,6 +57,7 @@ enum class TrapVerdict : int {
   boundary_too_low = 4,  // V on the box's boundary is nowhere above the lowest minimum
   margin_too_large = 5   // the lowest saddle, less the integrator's margin, is not above it
 };
+inline constexpr int kTrapVerdicts = 6;
 
 template <int D>
 struct Wells {
@@ -125,6 +126,21 @@ class WellFinder {
     return wells;
   }
 
+  // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
+  // 1% of V's range there: a component of {V < E} below it stays inside the box.
+  static constexpr int kBoundarySamples = 512;
+  double boundary_minimum() const {
+    constexpr int n = kBoundarySamples;
+    double least = INFINITY, most = -INFINITY;
+    for (int face = 0; face < D; ++face)
+      for (int side = 0; side < 2; ++side)
+        for (const Point& start : starts_on_face(face, side, n)) {
+          least = std::min(least, V(start));
+          most = std::max(most, V(start));
+        }
+    return least - 0.01 * (most - least);
+  }
+
   // V's least value on one face of the box (the lower one if side = 0), as boundary_minimum()
   // samples it.
   double face_minimum(int face, int side) const {
@@ -133,13 +149,46 @@ class WellFinder {
     return least;
   }
 
-  // The minimum at the bottom of the well holding q (a trapped lane's): steepest descent with
+  // The minimum at the bottom of the well holding q (a trapped lane's). One well: nothing to
+  // find. One q: read off the critical points (bottom_on_line). Else steepest descent with
   // steps 1/κ, halved until V falls (so it never hops over a ridge into a lower well), then the
-  // nearest of the minima found. One well: nothing to descend.
-  // Empty when the descent ends at no minimum found at set-up (one was missed): the lane is
-  // then not trapped, and settles on line instead.
-  std::optional<Point> bottom(const double* q, const Wells<D>& wells) const {
-    if (wells.minima.size() == 1) return wells.minima.front();
+  // nearest of the minima found.
+  // False when the descent ends at no minimum found at set-up (one was missed): the lane is
+  // then not trapped, and settles on line instead. (An out parameter rather than an optional:
+  // copying the optional's flag and point through the stack stalled every trapped lane's look.)
+  bool bottom(const double* q, const Wells<D>& wells, Point& minimum) const {
+    const Point* known = wells.minima.size() == 1 ? &wells.minima.front() : nullptr;
+    if constexpr (D == 1)
+      if (known == nullptr) known = bottom_on_line(q[0], wells);
+    if (known == nullptr) return descend(q, wells, minimum);
+    minimum = *known;
+    return true;
+  }
+
+  // One q (exact, no descent): a trapped lane's E is below V at every unstable critical point,
+  // so the interval of {V < E} that holds it lies strictly between the nearest unstable points
+  // on either side and inside the box (V is above the level on its ends), and holds no other
+  // critical point than its one minimum: V is monotone on either side of it. Empty when that
+  // interval holds no minimum or several (critical points missed at set-up): null, and the
+  // descent decides, as before.
+  static const Point* bottom_on_line(double q, const Wells<D>& wells) requires(D == 1) {
+    double left = wells.box.lo[0], right = wells.box.hi[0];
+    for (const Point& u : wells.unstable) {
+      if (u[0] < q) left = std::max(left, u[0]);
+      else if (u[0] > q) right = std::min(right, u[0]);
+      else return nullptr;  // on an unstable point: never below the level
+    }
+    const Point* found = nullptr;
+    for (const Point& m : wells.minima)
+      if (m[0] > left && m[0] < right) {
+        if (found != nullptr) return nullptr;
+        found = &m;
+      }
+    return found;
+  }
+
+  // The steepest descent of bottom() (any D).
+  bool descend(const double* q, const Wells<D>& wells, Point& minimum) const {
     Point x;
     std::copy(q, q + D, x.begin());
     const double step = 1.0 / wells.curvature;
@@ -160,8 +209,9 @@ class WellFinder {
       if (nearest(x, wells).second < kSettled) break;
     }
     const auto [m, d] = nearest(x, wells);
-    if (d < kSettled) return m;
-    return std::nullopt;
+    if (!(d < kSettled)) return false;
+    minimum = m;
+    return true;
   }
 
  private:
@@ -310,24 +360,10 @@ class WellFinder {
     return out;
   }
 
-  // V's least value on the box's boundary (sampled densely: 512 points along each edge), less
-  // 1% of V's range there: a component of {V < E} below it stays inside the box.
   double box_width() const {
     double w = 0.0;
     for (int i = 0; i < D; ++i) w = std::max(w, box_.hi[i] - box_.lo[i]);
     return w;
-  }
-  static constexpr int kBoundarySamples = 512;
-  double boundary_minimum() const {
-    constexpr int n = kBoundarySamples;
-    double least = INFINITY, most = -INFINITY;
-    for (int face = 0; face < D; ++face)
-      for (int side = 0; side < 2; ++side)
-        for (const Point& start : starts_on_face(face, side, n)) {
-          least = std::min(least, V(start));
-          most = std::max(most, V(start));
-        }
-    return least - 0.01 * (most - least);
   }
   std::vector<Point> starts_on_face(int face, int side, int n) const {
     std::vector<Point> out;
@@ -408,6 +444,34 @@ Wells<S::dof> find_wells(const ParamsOf<S, double>& c, const BasinBox<S::dof>& b
   const bool better = other.usable > wells.usable ||
                       (other.usable == wells.usable && other.trap_energy > wells.trap_energy);
   return better ? other : wells;
+}
+
+// The box to look for the wells in, for lanes of one parameter set whose positions lie in
+// `positions` and whose energies E = K(q, p, 0) start at most at e0: the positions widened by
+// `widen` on either side (BasinBox), or, when V on that box's boundary is not above e0, widened
+// by 2, 4, … 2⁶ times as much, the first box whose boundary is. E never rises, so no such lane
+// ever reaches that boundary, and every critical point of V it could meet is inside: a map
+// that does not span the wells (one initial point, q0 ∈ [1.5, 2.5] for the double well) still
+// finds them. No such box (V bounded, or unbounded below; the wells too far): the first box.
+// A box whose boundary is already above e0 is kept as it is: its wells are what they were.
+template <Scene S>
+BasinBox<S::dof> confining_box(const ParamsOf<S, double>& c, const BasinBox<S::dof>& positions,
+                               const std::array<double, S::dof>& widen, double e0, double h) {
+  constexpr int D = S::dof;
+  constexpr int kDoublings = 6;
+  auto widened = [&](double factor) {
+    BasinBox<D> box;
+    for (int d = 0; d < D; ++d)
+      box.lo[d] = positions.lo[d] - factor * widen[d], box.hi[d] = positions.hi[d] + factor * widen[d];
+    return box;
+  };
+  const BasinBox<D> first = widened(1.0);
+  if (!std::isfinite(e0)) return first;
+  for (int k = 0; k <= kDoublings; ++k) {
+    const BasinBox<D> box = widened(std::ldexp(1.0, k));
+    if (WellFinder<S>(c, box, h).boundary_minimum() > e0) return box;
+  }
+  return first;
 }
 
 }  // namespace cs

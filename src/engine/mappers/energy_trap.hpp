@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <limits>
 #include <mutex>
 #include <utility>
+#include <vector>
 
 #include "engine/attractor_search.hpp"
 #include "engine/mappers/basin_mapper.hpp"
@@ -35,7 +37,15 @@ class EnergyTrap {
         uniform_params_(uniform) {
     if (!active_) return;
     for (int d = 0; d < D; ++d) angle_period_[d] = plan.attractors.angle_period[static_cast<std::size_t>(d)];
-    grid_box_ = basin_box(plan);
+    for (int d = 0; d < D; ++d) {
+      q_values_[d] = values_of(plan, d);
+      p_values_[d] = values_of(plan, D + d);
+      // The map's positions (BasinBox): the spec's q with its axis's values.
+      double lo = plan.spec.initial.at(plan.scene.variables[static_cast<std::size_t>(d)].name), hi = lo;
+      for (double v : q_values_[d]) lo = std::min(lo, v), hi = std::max(hi, v);
+      positions_.lo[d] = lo, positions_.hi[d] = hi;
+      widen_[d] = 0.5 * std::max(hi - lo, 1.0);
+    }
     if constexpr (Uniform) {
       uniform_wells_ = &wells_for(uniform);
       uniform_box_ = uniform_wells_->box;
@@ -59,15 +69,15 @@ class EnergyTrap {
       for (int d = 0; d < D; ++d)
         if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
-      const auto bottom = WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells);
-      if (!bottom) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
+      std::array<double, D> bottom;
+      if (!WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells, bottom)) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
         lost_ = true;
         disarm(slot);
         return;
       }
       s.settled = true;
       s.period = 1;
-      for (int d = 0; d < D; ++d) s.point[d] = (*bottom)[d], s.point[D + d] = 0.0;
+      for (int d = 0; d < D; ++d) s.point[d] = bottom[d], s.point[D + d] = 0.0;
       s.settle_time = clock_.at(n);
     }
   }
@@ -150,46 +160,93 @@ class EnergyTrap {
   }
 
  private:
-  // The box the map's positions lie in (BasinBox): each q's range over the grid, widened.
-  static BasinBox<D> basin_box(const RunPlan& plan) {
-    BasinBox<D> box;
-    for (int d = 0; d < D; ++d) {
-      const std::string& name = plan.scene.variables[static_cast<std::size_t>(d)].name;
-      double lo = plan.spec.initial.at(name), hi = lo;
-      for (const auto& axis : plan.spec.axes)
-        if (!axis.is_parameter && !axis.is_step_size && axis.target == name)
-          for (double v : axis.values) lo = std::min(lo, v), hi = std::max(hi, v);
-      const double widen = 0.5 * std::max(hi - lo, 1.0);
-      box.lo[d] = lo - widen, box.hi[d] = hi + widen;
-    }
-    return box;
+  // The values a state variable (q.., p..) takes over the grid: its axis's, else the spec's one.
+  static std::vector<double> values_of(const RunPlan& plan, int variable) {
+    const std::string& name = plan.scene.variables[static_cast<std::size_t>(variable)].name;
+    for (const auto& axis : plan.spec.axes)
+      if (!axis.is_parameter && !axis.is_step_size && axis.target == name) return axis.values;
+    return {plan.spec.initial.at(name)};
   }
 
+  // The largest initial energy E₀ = K(q₀, p₀, 0) = Σp₀²/2 + V(q₀) of the lanes with parameters
+  // c. The grid is a product of axes, so those lanes start at every combination of the state
+  // axes' values: E₀ is a function of c and the spec alone (the same on every rank and thread).
+  // Its kinetic part is the sum of each p's largest p²/2; V is taken at every combination of
+  // the q axes' values, up to 2²² of them (more: +∞, the box is not grown).
+  double largest_initial_energy(const Params& c) const {
+    if constexpr (!has_energy_trap<S>()) return INFINITY;
+    double kinetic = 0.0, potential_max = -INFINITY;
+    std::int64_t combinations = 1;
+    for (int d = 0; d < D; ++d) {
+      double most = 0.0;
+      for (double p : p_values_[d]) most = std::max(most, 0.5 * (p * p));
+      kinetic += most;
+      combinations *= static_cast<std::int64_t>(q_values_[d].size());
+      if (combinations > (std::int64_t{1} << 22)) return INFINITY;
+    }
+    std::array<std::size_t, D> index{};
+    while (true) {
+      double q[D];
+      for (int d = 0; d < D; ++d) q[d] = q_values_[d][index[d]];
+      double v = INFINITY;
+      if constexpr (has_energy_trap<S>()) v = potential<S>(q, c, 0.0);
+      if (!(v <= potential_max)) potential_max = std::isnan(v) ? INFINITY : v;
+      int d = 0;
+      while (d < D && ++index[d] == q_values_[d].size()) index[d++] = 0;
+      if (d == D) break;
+    }
+    return kinetic + potential_max;
+  }
+
+  // Per lane parameters: the wells of each parameter set this trap has met, kept here (a runner's
+  // own, so no lock): wells_for() computes E₀ and takes the process-wide lock once per set, not
+  // once per look (E₀ visits every combination of the q axes' values).
   const Wells<D>& wells_of(const Params& c) const {
     if constexpr (Uniform) return *uniform_wells_;
-    else return wells_for(c);
+    else {
+      // Neighbouring lanes mostly share their parameters: the last set met is tried first.
+      if (last_ < seen_.size() && std::memcmp(&seen_[last_].first, &c, sizeof c) == 0)
+        return *seen_[last_].second;
+      for (last_ = 0; last_ < seen_.size(); ++last_)
+        if (std::memcmp(&seen_[last_].first, &c, sizeof c) == 0) return *seen_[last_].second;
+      seen_.emplace_back(c, &wells_for(c));
+      return *seen_.back().second;
+    }
   }
 
-  // The wells of one parameter set, in the box find_wells() chose for it, found once per process
-  // and kept (~0.1 s for the magnetic pendulum; the same bits whichever thread finds them).
-  // Entries are never removed, so the references handed out stay valid; a grid has few
-  // distinct parameter sets.
+  // The wells of one parameter set, in the box confining_box() and find_wells() chose for it,
+  // found once per process and kept (~0.1 s for the magnetic pendulum; the same bits whichever
+  // thread finds them). Entries are never removed, so the references handed out stay valid; a
+  // grid has few distinct parameter sets. The box depends on c, the positions and the state
+  // axes' values (E₀) alone: those are the key, and E₀ is computed once per entry (it visits
+  // every combination of the q axes' values; per block it cost seconds on a 512² map).
   const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
-      BasinBox<D> box;
+      BasinBox<D> positions;
+      std::array<double, D> widen;
+      std::vector<double> q_values[D], p_values[D];
       double h;
       Wells<D> wells;
+    };
+    auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
     };
     static std::mutex mutex;
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
-    for (const Known& k : known)
-      if (std::memcmp(&k.params, &c, sizeof c) == 0 && k.box.lo == grid_box_.lo &&
-          k.box.hi == grid_box_.hi && k.h == clock_.h)
-        return k.wells;
-    known.push_back({c, grid_box_, clock_.h, find_wells<S>(c, grid_box_, clock_.h)});
-    return known.back().wells;
+    for (const Known& k : known) {
+      bool hit = std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
+                 k.positions.hi == positions_.hi && k.widen == widen_ && k.h == clock_.h;
+      for (int d = 0; d < D && hit; ++d)
+        hit = same(k.q_values[d], q_values_[d]) && same(k.p_values[d], p_values_[d]);
+      if (hit) return k.wells;
+    }
+    const double e0 = largest_initial_energy(c);
+    const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
+    Known k{c, positions_, widen_, {}, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
+    for (int d = 0; d < D; ++d) k.q_values[d] = q_values_[d], k.p_values[d] = p_values_[d];
+    return known.emplace_back(std::move(k)).wells;
   }
 
   bool active_;
@@ -198,7 +255,11 @@ class EnergyTrap {
   double tolerance_;  // the anchor test's (refuses)
   double angle_period_[D] = {};
   Params uniform_params_;
-  BasinBox<D> grid_box_{};                // the map's positions, widened (basin_box)
+  BasinBox<D> positions_{};        // each q's range over the grid
+  std::array<double, D> widen_{};  // … and how far the box extends beyond it (BasinBox)
+  std::vector<double> q_values_[D], p_values_[D];  // each q's and p's values over the grid
+  mutable std::vector<std::pair<Params, const Wells<D>*>> seen_;  // wells_of (not Uniform)
+  mutable std::size_t last_ = 0;  // … the one met last
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
   BasinBox<D> uniform_box_{};                // … and their box, read by the screen
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
