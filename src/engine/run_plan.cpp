@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/attractor_table.hpp"
+#include "physics/energy_wells.hpp"  // kTrapVerdicts
 
 namespace cs {
 namespace {
