@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The docs test (CTest label `docs`): README.md and docs/ name nothing outside the repository,
-the README's relative links resolve, and `mkdocs build --strict` passes (a broken link between
+the README's relative links resolve, docs/spec.md documents every key the spec parser accepts,
+and `mkdocs build --strict` passes (a broken link between
 pages, or a page missing from the nav that is linked, fails it).
 
 Usage: check_docs.py SOURCE_DIR SITE_DIR
@@ -48,6 +49,32 @@ def broken_anchors(docs, site):
     return errors
 
 
+def parser_keys(root):
+    """Every key the spec parser accepts by name: the lists it checks tables against
+    (check_keys, measure_settings), the sections and the measures (spec_names.hpp,
+    spec_reader.hpp). Scene parameters and variables come from the catalogs instead."""
+    keys = set()
+    for source in sorted((root / "src" / "io").glob("spec_*.[ch]pp")):
+        text = source.read_text(encoding="utf-8")
+        for call in re.finditer(r"(?:check_keys|measure_settings)\((.*?)\);", text, re.DOTALL):
+            for braces in re.findall(r"\{([^{}]*)\}", call.group(1)):
+                keys.update(re.findall(r'"([a-z_]+)"', braces))
+        for listed in re.findall(r"k(?:Sections|MeasureNames)\[\] = \{([^}]*)\}", text):
+            keys.update(re.findall(r'"([a-z_]+)"', listed))
+    keys.update({"title", "name", "K", "label"})  # read by name in spec_scene.cpp
+    return keys
+
+
+def undocumented_keys(root):
+    spec = (root / "docs" / "spec.md").read_text(encoding="utf-8")
+    keys = parser_keys(root)
+    errors = [f"docs/spec.md does not document the key `{key}` that the parser accepts"
+              for key in sorted(keys) if f"`{key}`" not in spec and f"[{key}]" not in spec]
+    if len(keys) < 30:  # the extraction itself broke: fail rather than check nothing
+        errors.append(f"found only {len(keys)} parser keys in src/io/spec_*.cpp: {sorted(keys)}")
+    return errors
+
+
 def main():
     root, site = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
     errors = []
@@ -56,6 +83,7 @@ def main():
             for pattern, what in FORBIDDEN:
                 if pattern.search(line):
                     errors.append(f"{page.relative_to(root)}:{number}: names {what}: {line.strip()}")
+    errors += undocumented_keys(root)
     readme = root / "README.md"
     for target in LINK.findall(readme.read_text(encoding="utf-8")):
         if re.match(r"[a-z]+://|#|mailto:", target):
