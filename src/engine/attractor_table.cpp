@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/attractor_continuation.hpp"
 #include "engine/attractor_search.hpp"
 #include "engine/label_rule.hpp"
 #include "engine/recurrence/recurrence_table.hpp"
@@ -42,10 +43,10 @@ void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>
   table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}});
 }
 
-// A candidate's values: {block begin, period, point..}, then the recurrence record where the
-// recurrence mapper runs (NaN for the others).
+// A candidate's values: {block begin, value, period, point..}, then the recurrence record where
+// the recurrence mapper runs (NaN for the others).
 std::size_t record_width(const RunPlan& plan) {
-  return 2 + static_cast<std::size_t>(phase_space(plan)) +
+  return kCandidateHead + static_cast<std::size_t>(phase_space(plan)) +
          (plan.map.basin_cells >= 0 ? RecurrenceSearch::kRecordWidth : 0);
 }
 
@@ -68,14 +69,15 @@ bool same_bits(const double* x, const double* y, int values) {
   return true;
 }
 
-}  // namespace
-
-std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
+// The candidates of the block's lanes [from, to) (offsets into the block), all at `value` of
+// the continuation axis, appended to `records`.
+void add_point_candidates(const RunPlan& plan, const BlockResults& block, std::int64_t from,
+                          std::int64_t to, std::int64_t value, std::vector<double>& records) {
   const int n = phase_space(plan);
   const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   std::vector<Attractor> found;
   const double* previous = nullptr;  // a sighting already in `found`, or linked to one
-  for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
+  for (std::int64_t i = from; i < to; ++i) {
     if (labels[static_cast<std::size_t>(i)] == 0.0) continue;
     const double* point = point_of(plan, block, i);
     if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
@@ -84,30 +86,26 @@ std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& bl
     previous = point;
   }
   const std::size_t width = record_width(plan);
-  std::vector<double> records;
   for (const Attractor& a : found) {
     records.push_back(static_cast<double>(block.range.begin));
+    records.push_back(static_cast<double>(value));
     records.push_back(a.period);
     records.insert(records.end(), a.point.begin(), a.point.end());
-    records.resize(records.size() + width - 2 - a.point.size(), std::nan(""));
+    records.resize(records.size() + width - kCandidateHead - a.point.size(), std::nan(""));
   }
-  if (plan.map.basin_cells >= 0) add_recurrence_candidates(plan, block, records, width);
-  return records;
 }
 
-AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records) {
-  const std::size_t width = record_width(plan);
-  std::vector<std::size_t> order;
-  for (std::size_t r = 0; r + width <= records.size(); r += width) order.push_back(r);
-  // Block order, and within a block the order its lanes found them in.
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return records[a] < records[b]; });
-  AttractorTable table;
-  std::vector<Attractor>& attractors = table.attractors;
+// One value's table (a whole map's without a continuation axis) from its candidates (offsets
+// into `records`, in block order), sorted by (period, point), then the attractors found by
+// recurrences; not labelled yet.
+std::vector<Attractor> value_table(const RunPlan& plan, const std::vector<double>& records,
+                                   const std::vector<std::size_t>& order) {
+  std::vector<Attractor> attractors;
   std::vector<std::size_t> by_cells;
   for (std::size_t r : order) {
-    if (plan.map.basin_cells >= 0 && records[r + 1] == 0.0) by_cells.push_back(r);
-    else add_sighting(plan, {&records[r + 2], static_cast<int>(records[r + 1])}, attractors);
+    const double period = records[r + 2];
+    if (plan.map.basin_cells >= 0 && period == 0.0) by_cells.push_back(r);
+    else add_sighting(plan, {&records[r + kCandidateHead], static_cast<int>(period)}, attractors);
   }
   // Coordinates within the link distance count as equal, so that the order (and the labels) do
   // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's
@@ -122,18 +120,73 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
   });
   // Then the attractors found by recurrences, in order of their smallest cell.
   if (plan.map.basin_cells >= 0) add_recurrence_attractors(plan, records, by_cells, attractors);
-  table.labels = apply_label_rule(plan.scene.label_rule, plan.scene.variables.front().name, attractors);
+  return attractors;
+}
+
+}  // namespace
+
+std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
+  const ContinuationAxis axis = continuation_axis(plan.spec);
+  std::vector<double> records;
+  const std::int64_t begin = block.range.begin, end = block.range.end;
+  for (std::int64_t from = begin; from < end;) {  // one run of lanes per value of the axis
+    const std::int64_t value = axis.value_of(from);
+    const std::int64_t to = std::min(end, (value + 1) * axis.points_per_value);
+    add_point_candidates(plan, block, from - begin, to - begin, value, records);
+    from = to;
+  }
+  if (plan.map.basin_cells >= 0)
+    add_recurrence_candidates(plan, block, records, record_width(plan), axis);
+  return records;
+}
+
+AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records) {
+  const std::size_t width = record_width(plan);
+  const ContinuationAxis axis = continuation_axis(plan.spec);
+  std::vector<std::size_t> order;
+  for (std::size_t r = 0; r + width <= records.size(); r += width) order.push_back(r);
+  // Block order, and within a block the order its lanes found them in.
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return records[a] < records[b]; });
+  std::vector<std::vector<std::size_t>> by_value(static_cast<std::size_t>(axis.values));
+  for (std::size_t r : order) by_value[static_cast<std::size_t>(records[r + 1])].push_back(r);
+  AttractorTable table;
+  const LabelRule& rule = plan.scene.label_rule;
+  const std::string& q1 = plan.scene.variables.front().name;
+  if (!axis.along_parameter) {
+    table.attractors = value_table(plan, records, by_value.front());
+    table.labels = apply_label_rule(rule, q1, table.attractors);
+    return table;
+  }
+  std::vector<std::vector<Attractor>> tables;
+  for (const auto& candidates : by_value) tables.push_back(value_table(plan, records, candidates));
+  Continuation c = continue_attractors(
+      std::move(tables), plan.spec.axes.front().values,
+      [&](const Attractor& a, const Attractor& b) { return attractor_distance(plan, a, b); },
+      match_threshold(plan), plan.attractors.angle_period);
+  table.attractors = std::move(c.branches);
+  table.along = std::move(c.along);
+  table.labels = apply_label_rule(rule, q1, table.attractors, table.along);
   return table;
 }
 
-void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block) {
+void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, BlockResults& block,
+                 const std::vector<std::vector<Attractor>>& along) {
   const int n = phase_space(plan);
+  const ContinuationAxis axis = continuation_axis(plan.spec);
   auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   const double* previous = nullptr;  // the last lane labelled, and its label
   double previous_label = 0.0;
+  std::int64_t value = -1;
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     double& label = labels[static_cast<std::size_t>(i)];
     if (label == 0.0) continue;
+    if (!along.empty() && axis.value_of(block.range.begin + i) != value) {
+      value = axis.value_of(block.range.begin + i);
+      previous = nullptr;  // another value, another table
+    }
+    const std::vector<Attractor>& table =
+        along.empty() ? whole : along[static_cast<std::size_t>(value)];
     const double* point = point_of(plan, block, i);
     if (by_recurrence(plan, point)) {
       const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];

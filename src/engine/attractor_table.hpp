@@ -7,6 +7,7 @@
 // label are the same bits for any number of ranks and threads; no rank's timing enters.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,7 +34,10 @@ inline constexpr double kLinkTolerances = 4.0;
 // map of more points than labels.
 inline constexpr std::int64_t kMaxAttractors = 2147483647;
 
-// The block's candidate attractors, flat: per candidate {block begin, period, point..}.
+// The block's candidate attractors, flat: per candidate {block begin, value, period, point..},
+// `value` the index along the continuation axis of its lanes (attractor_continuation.hpp; 0
+// without one): a block that spans two values gives candidates for each.
+inline constexpr std::size_t kCandidateHead = 3;  // block begin, value, period
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
 
 // How the table's labels were chosen (label_rule.hpp).
@@ -42,17 +46,23 @@ struct Labelling {
   std::string description;  // for the file (basin_labels) and the log; empty for `numbered`
 };
 
-// The table, sorted by (period, point), and how its labels were chosen.
+// The table, sorted by (period, point), and how its labels were chosen. Along a continuation
+// axis: one attractor per branch (its point where it was first found), and `along[k]` the
+// attractors found at the axis' k-th value, each with its branch's label.
 struct AttractorTable {
   std::vector<Attractor> attractors;
   Labelling labels;
+  std::vector<std::vector<Attractor>> along;  // empty without a continuation axis
 };
 
 // The table from every block's candidates (any order of blocks: they are sorted first),
-// labelled by the scene's rule (label_rule.hpp).
+// labelled by the scene's rule (label_rule.hpp); continued along the grid's first axis when
+// it is a parameter (attractor_continuation.hpp).
 AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records);
 
-// Replaces the provisional labels of a block (1: settled) by the table's.
-void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block);
+// Replaces the provisional labels of a block (1: settled) by the table's: by `along`'s table
+// of the lane's value where there is a continuation axis.
+void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block,
+                 const std::vector<std::vector<Attractor>>& along = {});
 
 }  // namespace cs

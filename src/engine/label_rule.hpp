@@ -17,4 +17,12 @@ namespace cs {
 Labelling apply_label_rule(const LabelRule& rule, const std::string& first_position,
                            std::vector<Attractor>& table);
 
+// The same for a continuation (attractor_continuation.hpp): `table` the branches in order of
+// appearance, `along[k]` the attractors at the axis' k-th value, labelled by branch number
+// (1..n) on entry and by their branch's label on return. The sign of q1 labels a branch only
+// if every attractor along it lies on its side: one that crosses q1 = 0 is numbered instead.
+Labelling apply_label_rule(const LabelRule& rule, const std::string& first_position,
+                           std::vector<Attractor>& table,
+                           std::vector<std::vector<Attractor>>& along);
+
 }  // namespace cs

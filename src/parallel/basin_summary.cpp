@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/attractor_continuation.hpp"
 #include "mpi/comm.hpp"
 #include "parallel/undecided_summary.hpp"
 #include "physics/energy_wells.hpp"
@@ -103,6 +104,28 @@ std::string energy_trap_verdict(const RunPlan& whole,
                      fmt::join(reasons, "; "));
 }
 
+// Where each attractor is at each value of the continuation axis, NaN where it is not found:
+// branch_<var>(axis, attractor), so that a figure can draw the branches.
+void add_branches(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {
+  const std::string axis = plan.spec.axes.front().name;
+  for (int k = 0; k < 2 * plan.scene.dof; ++k) {
+    const VariableInfo& v = plan.scene.variables[static_cast<std::size_t>(k)];
+    std::vector<double> values;
+    for (const auto& at_value : basins.along)
+      for (const Attractor& branch : basins.table) {
+        const auto it = std::find_if(at_value.begin(), at_value.end(),
+                                     [&](const Attractor& a) { return a.label == branch.label; });
+        values.push_back(it == at_value.end() ? std::nan("") : it->point[static_cast<std::size_t>(k)]);
+      }
+    layout.tables.push_back({{"branch_" + v.name, ElementType::float64, false,
+                              v.description + " at a point of the attractor at this " + axis +
+                                  " (NaN where it is not found)",
+                              "", {}, "", std::nullopt},
+                             {axis, "attractor"},
+                             std::move(values)});
+  }
+}
+
 }  // namespace
 
 BasinSummary summarise_basins(const RunPlan& whole,
@@ -116,6 +139,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
   AttractorTable table = merge_candidates(whole, gather(comm, candidates, true));
   summary.table = std::move(table.attractors);
   summary.labels = std::move(table.labels);
+  summary.along = std::move(table.along);
   for (const ElementType type : {ElementType::int8, ElementType::int16, ElementType::int32}) {
     summary.label_type = type;
     const double limit = type == ElementType::int8 ? 127.0 : type == ElementType::int16 ? 32767.0
@@ -124,7 +148,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
                     [&](const Attractor& a) { return a.label >= -limit && a.label <= limit; }))
       break;
   }
-  for (auto& block : results) label_block(whole, summary.table, *block);
+  for (auto& block : results) label_block(whole, summary.table, *block, summary.along);
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
   summary.undecided = undecided_reasons(whole, results, comm);
   const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
@@ -203,6 +227,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
       : s.boundary_basin_entropy > std::numbers::ln2
           ? "fractal: boundary basin entropy > ln 2 (Daza et al. 2016)"
           : "not shown fractal: boundary basin entropy <= ln 2";
+  if (!basins.along.empty()) add_branches(basins, plan, layout);
   if (basins.continuation_axis >= 0 && !basins.continuation.empty()) {
     const std::string axis = plan.spec.axes[static_cast<std::size_t>(basins.continuation_axis)].name;
     std::vector<double> f, u;
@@ -249,6 +274,7 @@ void add_names_to_layout(const RunPlan& plan, FileLayout& layout) {
   names.continuation_axis = first_parameter_axis(plan.spec);
   const BasinMapShape shape = map_shape(plan.spec);
   if (names.continuation_axis >= 0) names.continuation.resize(1);
+  if (continuation_axis(plan.spec).along_parameter) names.along.resize(1);
   if (names.continuation_axis == 0 && shape.plane_axes > 0 &&
       shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1)
     names.continuation_statistics.resize(1);

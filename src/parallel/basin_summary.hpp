@@ -18,6 +18,9 @@ namespace cs {
 
 struct BasinSummary {
   std::vector<Attractor> table;
+  // Along a continuation axis (the grid's first, a parameter): the attractors at each of its
+  // values, labelled as in `table` (attractor_continuation.hpp); empty otherwise.
+  std::vector<std::vector<Attractor>> along;
   // The type of `basin` and `attractor_label`: int8 while the labels fit (the double well's
   // -1/+1 and every map of up to 127 attractors keep their files), int16, then int32, beyond.
   ElementType label_type = ElementType::int8;

@@ -39,7 +39,7 @@ inline Datasets run_in_memory(const std::string& toml, const std::vector<std::st
         candidates.insert(candidates.end(), c.begin(), c.end());
       }
       const AttractorTable table = merge_candidates(*plan, candidates);
-      for (auto& r : blocks) label_block(*plan, table.attractors, r);
+      for (auto& r : blocks) label_block(*plan, table.attractors, r, table.along);
     }
     for (const auto& r : blocks)
       for (std::size_t k = 0; k < plan->columns.size(); ++k) {

@@ -5,16 +5,14 @@
 #include <stdexcept>
 
 #include "engine/recurrence/cell_grid.hpp"
+#include "engine/recurrence/default_range.hpp"
 #include "engine/recurrence/recurrence_search.hpp"
 #include "formula/custom_scene.hpp"
 #include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
 #include "physics/energy_wells.hpp"
 
 namespace cs {
-namespace {
 
-// The range of variable `name` over the grid (its initial value and the axes that set it),
-// widened by half its width, at least 1, on either side: the energy trap's box (BasinBox).
 std::array<double, 2> default_range(const RunSpec& spec, const std::string& name) {
   const auto initial = spec.initial.find(name);
   double lo = initial == spec.initial.end() ? 0.0 : initial->second, hi = lo;
@@ -24,6 +22,8 @@ std::array<double, 2> default_range(const RunSpec& spec, const std::string& name
   const double widen = 0.5 * std::max(hi - lo, 1.0);
   return {lo - widen, hi + widen};
 }
+
+namespace {
 
 // Whether K = Σp²/2 + V(q) + k·z without t (the energy trap's form): E = K(q, p, 0) changes as
 // k·|p|², so with k < 0 every orbit ends where p = 0 and forces vanish (LaSalle): at fixed

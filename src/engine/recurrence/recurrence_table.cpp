@@ -23,25 +23,31 @@ std::vector<std::uint64_t> keys_of(const double* record) {
 }  // namespace
 
 void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
-                               std::vector<double>& records, std::size_t width) {
+                               std::vector<double>& records, std::size_t width,
+                               const ContinuationAxis& axis) {
   const auto n = static_cast<std::size_t>(2 * plan.scene.dof);
   const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   const auto& points = block.columns[static_cast<std::size_t>(plan.map.basin_point)];
   const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
-  std::set<std::vector<double>> seen;  // records compared by value: the same cells, one candidate
+  // Records compared by value (and value of the continuation axis): the same cells, one candidate.
+  std::set<std::vector<double>> seen;
   for (std::size_t i = 0; i < labels.size(); ++i) {
     const double* point = &points[i * (n + 1)];
     if (labels[i] == 0.0 || point[n] != 0.0) continue;
     const double* record = &cells[i * kRecord];
-    std::vector<double> r(record, record + kRecord);
+    const auto value =
+        static_cast<double>(axis.value_of(block.range.begin + static_cast<std::int64_t>(i)));
+    std::vector<double> r{value};
+    r.insert(r.end(), record, record + kRecord);
     for (double& v : r)
       if (std::isnan(v)) v = -1.0;  // NaN never equals itself: a set would keep every copy
     if (!seen.insert(r).second) continue;
     records.push_back(static_cast<double>(block.range.begin));
+    records.push_back(value);
     records.push_back(0.0);
     records.insert(records.end(), point, point + n);
     records.insert(records.end(), record, record + kRecord);
-    records.resize(records.size() + (width - (2 + n + kRecord)), std::nan(""));
+    records.resize(records.size() + (width - (kCandidateHead + n + kRecord)), std::nan(""));
   }
 }
 
@@ -52,7 +58,7 @@ void add_recurrence_attractors(const RunPlan& plan, const std::vector<double>& r
   std::vector<bool> wraps;
   for (double period : r.angle_period) wraps.push_back(period > 0.0);
   AttractorCells cells(r.cells, wraps);
-  const std::size_t record_at = 2 + static_cast<std::size_t>(2 * plan.scene.dof);
+  const std::size_t record_at = kCandidateHead + static_cast<std::size_t>(2 * plan.scene.dof);
   for (std::size_t offset : offsets) cells.add(keys_of(&records[offset + record_at]));
   for (auto& keys : cells.components()) {
     Attractor a;

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "engine/attractor_continuation.hpp"
 #include "engine/attractor_table.hpp"
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
@@ -17,9 +18,10 @@
 namespace cs {
 
 // Appends the block's candidates found by recurrences to `records`, `width` values each:
-// {block begin, 0, the representative cell's centre (q.., p..), the record}.
+// {block begin, value along `axis`, 0, the representative cell's centre (q.., p..), the record}.
 void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
-                               std::vector<double>& records, std::size_t width);
+                               std::vector<double>& records, std::size_t width,
+                               const ContinuationAxis& axis);
 
 // Appends the attractors of the records with period 0 (offsets into `records`) to `table`:
 // period 0, the centre of their smallest cell as point, their cells' keys as cells.
