@@ -107,9 +107,12 @@ Continuation continue_attractors(std::vector<std::vector<Attractor>> tables,
       predicted.point = ahead;
       for (std::size_t j = 0; j < table.size(); ++j) {
         if (table[j].period != tracks[b].last.period) continue;
-        double d = distance(tracks[b].last, table[j]);
-        if (!ahead.empty()) d = std::fmin(d, distance(predicted, table[j]));
-        if (d <= threshold) pairs.emplace_back(d, b, j);
+        // Ranked by the distance to the extrapolation where there is one (two branches that
+        // cross are told apart by where they are going), admitted by the nearer of the two
+        // (a branch that stops moving is not lost).
+        const double from_last = distance(tracks[b].last, table[j]);
+        const double ahead_d = ahead.empty() ? from_last : distance(predicted, table[j]);
+        if (std::fmin(from_last, ahead_d) <= threshold) pairs.emplace_back(ahead_d, b, j);
       }
     }
     std::sort(pairs.begin(), pairs.end());

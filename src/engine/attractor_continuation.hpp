@@ -6,8 +6,9 @@
 // left unmatched starts a branch (a label) of its own. As Attractors.jl's MatchBySSSetDistance
 // with use_vanished = true, but with ties broken by index (the table depends on the spec alone),
 // attractors matched only to branches of their own period (a cycle of period 2 is not the fixed
-// point it bifurcated from) and distances taken to the branch's last point and to its linear
-// extrapolation, whichever is nearer, so that a fast-moving attractor is not lost to a neighbour.
+// point it bifurcated from), and pairs ranked by the distance to the branch's linear
+// extrapolation from its last two points (two attractors whose paths cross keep their labels)
+// but admitted when either it or the distance to the last point is within the threshold.
 #pragma once
 
 #include <cstdint>
