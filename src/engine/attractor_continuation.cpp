@@ -53,8 +53,10 @@ double cell_set_distance(const RecurrenceSearch& r, const std::vector<std::uint6
 
 }  // namespace
 
-ContinuationAxis continuation_axis(const RunSpec& spec) {
+ContinuationAxis continuation_axis(const RunPlan& plan) {
+  const RunSpec& spec = plan.spec;
   ContinuationAxis axis;
+  axis.first_point = plan.point_offset;
   axis.points_per_value = spec.grid_points();
   if (spec.axes.size() < 2 || !spec.axes.front().is_parameter) return axis;
   axis.along_parameter = true;

@@ -26,9 +26,12 @@ struct ContinuationAxis {
   bool along_parameter = false;
   std::int64_t values = 1;
   std::int64_t points_per_value = 1;  // grid points sharing one value (the axes after it)
-  std::int64_t value_of(std::int64_t point) const { return point / points_per_value; }
+  std::int64_t first_point = 0;       // the plan's first point (RunPlan::point_offset)
+  std::int64_t value_of(std::int64_t point) const {
+    return (point - first_point) / points_per_value;
+  }
 };
-ContinuationAxis continuation_axis(const RunSpec& spec);
+ContinuationAxis continuation_axis(const RunPlan& plan);
 
 // How far an attractor may move between neighbouring values and keep its label (max norm over
 // q, p, angles modulo their period): a tenth of the widest side of the box of the map (the

@@ -126,12 +126,12 @@ std::vector<Attractor> value_table(const RunPlan& plan, const std::vector<double
 }  // namespace
 
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block) {
-  const ContinuationAxis axis = continuation_axis(plan.spec);
+  const ContinuationAxis axis = continuation_axis(plan);
   std::vector<double> records;
   const std::int64_t begin = block.range.begin, end = block.range.end;
   for (std::int64_t from = begin; from < end;) {  // one run of lanes per value of the axis
     const std::int64_t value = axis.value_of(from);
-    const std::int64_t to = std::min(end, (value + 1) * axis.points_per_value);
+    const std::int64_t to = std::min(end, axis.first_point + (value + 1) * axis.points_per_value);
     add_point_candidates(plan, block, from - begin, to - begin, value, records);
     from = to;
   }
@@ -142,7 +142,7 @@ std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& bl
 
 AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records) {
   const std::size_t width = record_width(plan);
-  const ContinuationAxis axis = continuation_axis(plan.spec);
+  const ContinuationAxis axis = continuation_axis(plan);
   std::vector<std::size_t> order;
   for (std::size_t r = 0; r + width <= records.size(); r += width) order.push_back(r);
   // Block order, and within a block the order its lanes found them in.
@@ -173,7 +173,7 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
 void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, BlockResults& block,
                  const std::vector<std::vector<Attractor>>& along) {
   const int n = phase_space(plan);
-  const ContinuationAxis axis = continuation_axis(plan.spec);
+  const ContinuationAxis axis = continuation_axis(plan);
   auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   const double* previous = nullptr;  // the last lane labelled, and its label
   double previous_label = 0.0;

@@ -274,7 +274,7 @@ void add_names_to_layout(const RunPlan& plan, FileLayout& layout) {
   names.continuation_axis = first_parameter_axis(plan.spec);
   const BasinMapShape shape = map_shape(plan.spec);
   if (names.continuation_axis >= 0) names.continuation.resize(1);
-  if (continuation_axis(plan.spec).along_parameter) names.along.resize(1);
+  if (continuation_axis(plan).along_parameter) names.along.resize(1);
   if (names.continuation_axis == 0 && shape.plane_axes > 0 &&
       shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1)
     names.continuation_statistics.resize(1);
