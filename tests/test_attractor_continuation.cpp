@@ -1,7 +1,8 @@
 // The continuation's matcher (engine/attractor_continuation.hpp) on synthetic tables: an
 // attractor that moves by less than the threshold keeps its label, one that appears or vanishes
 // gets a label of its own, one that returns gets its old one back, two that swap their sorted
-// positions (or whose paths cross) keep theirs; and the label rule along a continuation.
+// positions keep theirs, a steady move is followed by its extrapolation, a jump as long as the
+// attractors' spacing is no move; and the label rule along a continuation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -81,26 +82,29 @@ TEST(Continuation, TwoThatSwapTheirSortedPositionsKeepTheirLabels) {
   EXPECT_EQ(labels(c), (Labels{{1, 2}, {2, 1}}));
 }
 
-TEST(Continuation, PathsThatCrossAreFollowedByWhereTheyAreGoing) {
-  // A rises by 0.1 per value, B falls by 0.05: at the fourth value A (0.3) has passed B (0.2);
-  // nearest to the last points alone would swap them (A was at 0.2, B at 0.25).
-  const Continuation c = run({{at(0.0), at(0.35)},
-                              {at(0.1), at(0.3)},
-                              {at(0.2), at(0.25)},
-                              {at(0.2), at(0.3)}});  // sorted: B (0.2), A (0.3)
-  EXPECT_EQ(labels(c), (Labels{{1, 2}, {1, 2}, {1, 2}, {2, 1}}));
+TEST(Continuation, ASteadyMoveIsFollowedBeyondTheThresholdByItsExtrapolation) {
+  // Steps 0.15, 0.2, 0.25 against a threshold of 0.2: the last is 0.05 from where the first two
+  // say it goes (0.55); from the last point alone it would be a new attractor.
+  const Continuation c = run({{at(0.0)}, {at(0.15)}, {at(0.35)}, {at(0.6)}});
+  EXPECT_EQ(labels(c), (Labels{{1}, {1}, {1}, {1}}));
+  const Continuation jump = run({{at(0.0)}, {at(0.15)}, {at(0.35)}, {at(0.8)}});
+  EXPECT_EQ(labels(jump), (Labels{{1}, {1}, {1}, {2}}));
+}
+
+TEST(Continuation, AJumpAsLongAsTheAttractorsSpacingIsNoMove) {
+  // A pendulum's maxima ±3 at one value, its minima −2, 0, 2 at the next: within the threshold
+  // (5) but a third of their spacing (2) is 2/3 < 1: no branch goes on.
+  const Continuation c = run({{at(-3.0), at(3.0)}, {at(-2.0), at(0.0), at(2.0)}}, 5.0);
+  EXPECT_EQ(labels(c), (Labels{{1, 2}, {3, 4, 5}}));
+  // Moves under a third of the spacing are moves.
+  const Continuation d = run({{at(-3.0), at(3.0)}, {at(-2.5), at(2.5)}}, 5.0);
+  EXPECT_EQ(labels(d), (Labels{{1, 2}, {1, 2}}));
 }
 
 TEST(Continuation, OnlyAttractorsOfOnePeriodAreMatched) {
   // A fixed point that doubles its period is a new attractor, however near.
   const Continuation c = run({{at(1.0)}, {at(1.0, 0.0, 2)}});
   EXPECT_EQ(labels(c), (Labels{{1}, {2}}));
-}
-
-TEST(Continuation, TheSameTableForEqualDistancesWhateverTheOrder) {
-  // Ties (equal distances) are broken by branch, then by position: deterministic.
-  const Continuation c = run({{at(0.0)}, {at(-0.1), at(0.1)}});
-  EXPECT_EQ(labels(c), (Labels{{1}, {1, 2}}));
 }
 
 const LabelRule kSign{LabelRule::Kind::sign_of_q1, "left_well", "right_well"};

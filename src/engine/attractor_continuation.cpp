@@ -51,6 +51,15 @@ double cell_set_distance(const RecurrenceSearch& r, const std::vector<std::uint6
   return nearest;
 }
 
+// The smallest distance between two attractors of one table (infinite with fewer than two).
+double separation(const std::vector<Attractor>& table, const AttractorDistance& distance) {
+  double s = INFINITY;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    for (std::size_t j = i + 1; j < table.size(); ++j)
+      s = std::fmin(s, distance(table[i], table[j]));
+  return s;
+}
+
 }  // namespace
 
 ContinuationAxis continuation_axis(const RunPlan& plan) {
@@ -101,6 +110,11 @@ Continuation continue_attractors(std::vector<std::vector<Attractor>> tables,
   std::vector<BranchTrack> tracks;
   for (std::size_t v = 0; v < tables.size(); ++v) {
     std::vector<Attractor>& table = tables[v];
+    // A move is a move only if it is small beside the distance between distinct attractors, here
+    // and at the value before: else the parameter's steps are too coarse to tell (the pendulum's
+    // maxima ±3π at γ = 0, where lanes that start on them stay, are not its minima ±2π at γ > 0).
+    double within = std::fmin(threshold, kSeparationShare * separation(table, distance));
+    if (v > 0) within = std::fmin(within, kSeparationShare * separation(c.along[v - 1], distance));
     // Every admissible pair, nearest first; ties by branch, then by the table's order.
     std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
     for (std::size_t b = 0; b < tracks.size(); ++b) {
@@ -114,7 +128,7 @@ Continuation continue_attractors(std::vector<std::vector<Attractor>> tables,
         // (a branch that stops moving is not lost).
         const double from_last = distance(tracks[b].last, table[j]);
         const double ahead_d = ahead.empty() ? from_last : distance(predicted, table[j]);
-        if (std::fmin(from_last, ahead_d) <= threshold) pairs.emplace_back(ahead_d, b, j);
+        if (std::fmin(from_last, ahead_d) <= within) pairs.emplace_back(ahead_d, b, j);
       }
     }
     std::sort(pairs.begin(), pairs.end());

@@ -6,9 +6,10 @@
 // left unmatched starts a branch (a label) of its own. As Attractors.jl's MatchBySSSetDistance
 // with use_vanished = true, but with ties broken by index (the table depends on the spec alone),
 // attractors matched only to branches of their own period (a cycle of period 2 is not the fixed
-// point it bifurcated from), and pairs ranked by the distance to the branch's linear
-// extrapolation from its last two points (two attractors whose paths cross keep their labels)
-// but admitted when either it or the distance to the last point is within the threshold.
+// point it bifurcated from), a move admitted only if it is short beside the spacing of the
+// attractors (match_threshold), and pairs ranked by the distance to the branch's linear
+// extrapolation from its last two points, admitted when either it or the distance to the last
+// point is short enough (a steady move is followed beyond the threshold).
 #pragma once
 
 #include <cstdint>
@@ -36,8 +37,12 @@ ContinuationAxis continuation_axis(const RunPlan& plan);
 // How far an attractor may move between neighbouring values and keep its label (max norm over
 // q, p, angles modulo their period): a tenth of the widest side of the box of the map (the
 // recurrence mapper's box; by default each variable's range over the grid widened by half,
-// at least ±½), i.e. 10 of the recurrence mapper's default cells.
+// at least ±½), i.e. 10 of the recurrence mapper's default cells; and at each value no more
+// than kSeparationShare of the smallest distance between two attractors there or at the value
+// before (continue_attractors). Under a third, the move of an attractor is shorter than the
+// distance from its new place to any other attractor's old one: nearest is then unambiguous.
 double match_threshold(const RunPlan& plan);
+inline constexpr double kSeparationShare = 1.0 / 3.0;
 
 // The distance between two attractors of one period: between their points (max norm, angles
 // modulo their period) for points and cycles; for recurrence attractors (period 0) the
@@ -58,7 +63,7 @@ struct Continuation {
 // Matches the tables of consecutive values (`tables[k]` at `values[k]`, each sorted as the
 // table of a whole map) into branches. Pairs (branch, attractor) of equal period are taken in
 // increasing distance (ties: branch, then attractor index) while the distance is within
-// `threshold`; every branch seen so far takes part, not only those at the previous value, so an
+// `threshold` and kSeparationShare of the separation of the attractors at values k and k − 1; every branch seen so far takes part, not only those at the previous value, so an
 // attractor missed at one value (no lane fell in its basin) keeps its label when it returns.
 // `angle_period` (per q.., p..; 0: not an angle) folds the extrapolation's steps.
 Continuation continue_attractors(std::vector<std::vector<Attractor>> tables,
