@@ -24,36 +24,14 @@ import os
 import subprocess
 import sys
 
-import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
-    failures += not ok
-
-
-def run(spec_text, name, *extra, ranks=0, threads=1):
-    spec = os.path.join(work, name + ".toml")
-    out = os.path.join(work, name + ".h5")
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    command = [binary, "run", spec, "-o", out, "--force", "--quiet", *extra]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    if ranks:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-    result = subprocess.run(command, env=env, capture_output=True, text=True)
-    if result.returncode != 0:
-        check(f"{name} runs", False, result.stderr.strip()[-2000:])
-        return None
-    return h5py.File(out, "r")
+runs = Runs(binary, mpiexec, work)
+check, run = runs.check, runs.run
 
 
 TOLERANCE = 1e-3  # measures.basin.tolerance's default: how near its attractor a lane settles
@@ -229,5 +207,5 @@ result = subprocess.run([sys.executable, compare, *outputs], capture_output=True
 check("continuation over th: 1x1, 1x2, 2x1 give the same bits",
       len(outputs) == 3 and result.returncode == 0, result.stdout[-1500:] + result.stderr[-500:])
 
-print(f"{failures} failure(s)")
-sys.exit(1 if failures else 0)
+print(f"{runs.failures} failure(s)")
+sys.exit(1 if runs.failures else 0)
