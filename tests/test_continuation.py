@@ -7,8 +7,8 @@ With a scene parameter as the grid's first axis, the attractors at each value ar
 those of the values before, so an attractor that moves keeps its label:
   * the damped double well written as K (numbered labels), a = 0.8 .. 1.2: exactly two labels
     over the whole map, branch_q at each value = -a, +a (the minima of (q^2 - a^2)^2/2), halves
-    of the map by the symmetry (q, p) -> (-q, -p); the built-in double well over a keeps its
-    -1/+1 (numbered 1..10 before continuation);
+    of the map by the symmetry (q, p) -> (-q, -p), the file readable by xarray; the built-in
+    double well over a keeps its -1/+1 (numbered 1..10 before continuation);
   * the magnetic pendulum with the magnets at distance r (0.9 .. 1.3) from the centre: three
     labels, each branch at the minimum of V near its own magnet at every r (V's minima found
     here independently by Newton's method in numpy);
@@ -75,6 +75,14 @@ if as_k:
     i, j = np.argmin(abs(q0 - 1.2)), np.argmin(abs(p0))
     check("double well as K over a: the label at the right minimum is the right branch's",
           basin[4, i, j] == 2 and basin[4, len(q0) - 1 - i, j] == 1)
+
+    # branch_<var> (a, attractor), NaN where absent, reads as netCDF-4 like the other datasets.
+    opened = subprocess.run([sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                          "test_xarray_open.py"),
+                             os.path.join(work, "dw_k_over_a.h5"), "--dims", "a=5", "q_0=48",
+                             "p_0=48", "attractor=2"], capture_output=True, text=True)
+    check("double well as K over a: the file with branch_q, branch_p opens in xarray",
+          opened.returncode == 0, opened.stdout[-800:] + opened.stderr[-800:])
 
 builtin = run(DW.format(scene='name = "double_well"\na = 1.0'), "dw_builtin_over_a")
 if builtin:
