@@ -41,7 +41,9 @@ def colours(labels):
     return {0: UNDECIDED} | {int(l): palette(k % 10) for k, l in enumerate(labels)}
 
 
-def draw_map(ax, f, labels2d, xname, yname, colour):
+def draw_map(ax, f, labels2d, xname, yname, colour, value=None):
+    """The map, each attractor marked where it is (at the continuation's `value`-th value if
+    given: branch_<var>, NaN where it is not found there)."""
     table = [int(l) for l in f["attractor_label"][...]]
     codes = {l: k for k, l in enumerate([0] + table)}
     index = np.vectorize(lambda l: codes.get(int(l), 0))(labels2d)
@@ -50,10 +52,13 @@ def draw_map(ax, f, labels2d, xname, yname, colour):
               vmin=-0.5, vmax=len(table) + 0.5,
               extent=centers_extent(f[xname][...]) + centers_extent(f[yname][...]))
     xvar, yvar = xname.removesuffix("_0"), yname.removesuffix("_0")
-    if f"attractor_{xvar}" in f and f"attractor_{yvar}" in f:
+    where = ([f[f"branch_{v}"][value] for v in (xvar, yvar)]
+             if value is not None and f"branch_{xvar}" in f and f"branch_{yvar}" in f
+             else [f[f"attractor_{v}"][...] for v in (xvar, yvar)]
+             if f"attractor_{xvar}" in f and f"attractor_{yvar}" in f else None)
+    if where is not None:
         for k, l in enumerate(table):
-            ax.plot(f[f"attractor_{xvar}"][k], f[f"attractor_{yvar}"][k], "o", ms=7,
-                    mfc=colour[l], mec="white", mew=1.5)
+            ax.plot(where[0][k], where[1][k], "o", ms=7, mfc=colour[l], mec="white", mew=1.5)
     ax.set(xlabel=xname, ylabel=yname)
 
 
@@ -98,7 +103,7 @@ def continuation(f, path):
     grid = fig.add_gridspec(1, 3)
     for k, i in enumerate((0, len(values) - 1)):
         ax = fig.add_subplot(grid[0, k])
-        draw_map(ax, f, f["basin"][i], xname, yname, colour)
+        draw_map(ax, f, f["basin"][i], xname, yname, colour, value=i)
         ax.set_title(f"{pname} = {values[i]:g}: S_b = {f['basin_entropy'][i]:.2f}, "
                      f"S_bb = {f['boundary_basin_entropy'][i]:.2f}", fontsize=9)
     cx = fig.add_subplot(grid[0, 2])
