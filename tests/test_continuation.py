@@ -8,7 +8,8 @@ those of the values before, so an attractor that moves keeps its label:
   * the damped double well written as K (numbered labels), a = 0.8 .. 1.2: exactly two labels
     over the whole map, branch_q at each value = -a, +a (the minima of (q^2 - a^2)^2/2), halves
     of the map by the symmetry (q, p) -> (-q, -p), the file readable by xarray; the built-in
-    double well over a keeps its -1/+1 (numbered 1..10 before continuation);
+    double well over a keeps its -1/+1 (numbered 1..10 before continuation); with a
+    continuation_threshold below the minima's step, ten labels;
   * the magnetic pendulum with the magnets at distance r (0.9 .. 1.3) from the centre: three
     labels, each branch at the minimum of V near its own magnet at every r (V's minima found
     here independently by Newton's method in numpy);
@@ -83,6 +84,14 @@ if as_k:
                              "p_0=48", "attractor=2"], capture_output=True, text=True)
     check("double well as K over a: the file with branch_q, branch_p opens in xarray",
           opened.returncode == 0, opened.stdout[-800:] + opened.stderr[-800:])
+
+# continuation_threshold below the minima's step (0.1 per value of a): no branch goes on, ten
+# attractors, as without continuation.
+apart = run(DW.format(scene='K = "p^2/2 + (q^2 - a^2)^2/2 - gamma*z"\na = 1.0')
+            .replace("basin = {}", "basin = { continuation_threshold = 0.05 }"), "dw_k_apart")
+if apart:
+    check("double well as K over a, continuation_threshold = 0.05 < the step 0.1: ten labels",
+          list(apart["attractor_label"][...]) == list(range(1, 11)), str(apart["attractor_label"][...]))
 
 builtin = run(DW.format(scene='name = "double_well"\na = 1.0'), "dw_builtin_over_a")
 if builtin:

@@ -715,8 +715,17 @@ const std::vector<BadSpec> kBadSpecs = {
      "measures.basin.early_stop: expected true or false, got a string \"no\""},
     {"measure_number", kDw + "[measures]\nbasin = 1\n", {},
      "measures.basin: expected true, false or a table { early_stop, period, tolerance, dwell, "
-     "max_period, exact_trap, angles, recurrence, cell_size, recurrences, locate, max_cells, "
-     "box = ... }, got an integer 1"},
+     "max_period, exact_trap, angles, continuation_threshold, recurrence, cell_size, "
+     "recurrences, locate, max_cells, box = ... }, got an integer 1"},
+    {"continuation_threshold_zero",
+     kDw + "[grid]\ngamma = { values = [0.1, 0.2] }\nq_0 = { from = -1, to = 1, n = 4 }\n"
+           "[measures]\nbasin = { continuation_threshold = 0 }\n",
+     {}, "measures.basin.continuation_threshold = 0: expected a distance > 0"},
+    {"continuation_threshold_without_axis",
+     kDw + "[grid]\nq_0 = { from = -1, to = 1, n = 4 }\n"
+           "[measures]\nbasin = { continuation_threshold = 0.1 }\n",
+     {}, "measures.basin.continuation_threshold: attractors are continued along the grid's first "
+         "axis when it sets a scene parameter"},
     {"recurrence_string", kDw + "[measures]\nbasin = { recurrence = \"yes\" }\n", {},
      "measures.basin.recurrence: expected true or false"},
     {"cell_size_zero", kDw + "[measures]\nbasin = { cell_size = 0 }\n", {},

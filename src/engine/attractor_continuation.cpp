@@ -75,6 +75,8 @@ ContinuationAxis continuation_axis(const RunPlan& plan) {
 }
 
 double match_threshold(const RunPlan& plan) {
+  if (plan.spec.measures.basin && plan.spec.measures.basin->continuation_threshold)
+    return *plan.spec.measures.basin->continuation_threshold;
   double widest = 0.0;
   const int n = 2 * plan.scene.dof;
   for (int k = 0; k < n; ++k) {

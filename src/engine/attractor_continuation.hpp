@@ -35,7 +35,8 @@ struct ContinuationAxis {
 ContinuationAxis continuation_axis(const RunPlan& plan);
 
 // How far an attractor may move between neighbouring values and keep its label (max norm over
-// q, p, angles modulo their period): a tenth of the widest side of the box of the map (the
+// q, p, angles modulo their period): measures.basin.continuation_threshold, by default a
+// tenth of the widest side of the box of the map (the
 // recurrence mapper's box; by default each variable's range over the grid widened by half,
 // at least ±½), i.e. 10 of the recurrence mapper's default cells; and at each value no more
 // than kSeparationShare of the smallest distance between two attractors there or at the value

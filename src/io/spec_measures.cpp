@@ -106,7 +106,8 @@ void SpecReader::read_basin(const toml::table& measures) {
   const toml::table* t = measure_settings(
       measures, "basin",
       {"early_stop", "period", "tolerance", "dwell", "max_period", "exact_trap", "angles",
-       "recurrence", "cell_size", "recurrences", "locate", "max_cells", "box"});
+       "continuation_threshold", "recurrence", "cell_size", "recurrences", "locate", "max_cells",
+       "box"});
   if (t == nullptr) return;
   BasinMeasure basin;
   if (const toml::node* early_stop = t->get("early_stop"))
@@ -156,8 +157,23 @@ void SpecReader::read_basin(const toml::table& measures) {
       basin.angles[std::string(name.str())] = angle_period;
     }
   }
+  if (const toml::node* threshold = t->get("continuation_threshold"))
+    basin.continuation_threshold = read_continuation_threshold(*threshold);
   read_basin_recurrence(*t, basin.recurrence);
   spec_.measures.basin = basin;
+}
+
+double SpecReader::read_continuation_threshold(const toml::node& node) {
+  const std::string key = "measures.basin.continuation_threshold";
+  if (spec_.axes.size() < 2 || !spec_.axes.front().is_parameter)
+    fail(&node, key + ": attractors are continued along the grid's first axis when it sets a "
+                      "scene parameter and other axes follow; this grid's does not");
+  const double threshold = number(node, key);
+  if (!(threshold > 0.0))
+    fail_value(node, key,
+               "a distance > 0 (max norm over q and p): how far an attractor may move between "
+               "neighbouring values and keep its label");
+  return threshold;
 }
 
 void SpecReader::read_basin_period(const toml::node& node, BasinMeasure& basin) {

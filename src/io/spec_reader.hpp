@@ -125,6 +125,7 @@ class SpecReader {
   void read_basin(const toml::table& measures);
   // The stroboscopic map samples every period/h steps: a whole number for every step size.
   void read_basin_period(const toml::node& node, BasinMeasure& basin);
+  double read_continuation_threshold(const toml::node& node);
   // The recurrence mapper's keys: recurrence, cell_size, recurrences, locate, max_cells, box.
   void read_basin_recurrence(const toml::table& t, RecurrenceSettings& r);
   void read_sync(const toml::table& measures);

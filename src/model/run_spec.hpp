@@ -62,6 +62,9 @@ struct BasinMeasure {
   int max_period = 1;                    // longest cycle of the stroboscopic map looked for
   bool exact_trap = true;                // use the scene's exact energy trap where it has one
   std::map<std::string, double> angles;  // variable → its period (compared modulo it)
+  // How far an attractor may move between neighbouring values of a continuation axis and keep
+  // its label; none: a tenth of the map's box (engine/attractor_continuation.hpp).
+  std::optional<double> continuation_threshold;
   RecurrenceSettings recurrence;
   static constexpr double kDefaultDwell = 20.0;          // time units, autonomous
   static constexpr double kDefaultDwellPeriods = 16.0;   // periods, stroboscopic
