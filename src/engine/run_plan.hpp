@@ -44,7 +44,9 @@ struct ColumnMap {
   std::vector<int> traj_vars;   // per catalog variable, −1 if no trajectory
   int traj_H = -1;
   int basin = -1, settle_time = -1;
-  int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
+  // internal, per block: the distinct (q.., p.., period) its settled lanes settled on, each
+  // `width` values (engine/settlement_records.hpp)
+  int basin_records = -1;
   int trap_verdict = -1;  // internal, per block: how many lanes had each TrapVerdict
   // internal, where the recurrence mapper runs: a lane's record (RecurrenceSearch) and why it
   // ended undecided (UndecidedReason)

@@ -52,7 +52,7 @@ using LookInt = std::int32_t;
 using LookInt = std::int64_t;
 #endif
 
-// Where a lane settled: what every mapper writes (RunPlan's internal column basin_point).
+// Where a lane settled: what every mapper writes (kept per block: settlement_records.hpp).
 template <int N>
 struct Settlement {
   bool settled = false;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "engine/recurrence/attractor_cells.hpp"
+#include "engine/settlement_records.hpp"
 
 namespace cs {
 namespace {
@@ -25,13 +26,12 @@ std::vector<std::uint64_t> keys_of(const double* record) {
 void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
                                std::vector<double>& records, std::size_t width) {
   const auto n = static_cast<std::size_t>(2 * plan.scene.dof);
-  const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
-  const auto& points = block.columns[static_cast<std::size_t>(plan.map.basin_point)];
+  const auto lanes = static_cast<std::size_t>(block.range.end - block.range.begin);
   const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
   std::set<std::vector<double>> seen;  // records compared by value: the same cells, one candidate
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    const double* point = &points[i * (n + 1)];
-    if (labels[i] == 0.0 || point[n] != 0.0) continue;
+  for (std::size_t i = 0; i < lanes; ++i) {
+    const double* point = settlement_of(plan, block, i);
+    if (point == nullptr || point[n] != 0.0) continue;
     const double* record = &cells[i * kRecord];
     std::vector<double> r(record, record + kRecord);
     for (double& v : r)
