@@ -183,7 +183,7 @@ class BlockRunner {
       countdown_[i] -= 1;
       steps_done_[i] += plan_.chunk;
       if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
-      attention_[i] = (!healthy) | (countdown_[i] <= 0);
+      attention_[i] = (!healthy) | (countdown_[i] <= 0) | mappers_.flag(t, i);
     }
     mappers_.screen(t, attention_);
   }
