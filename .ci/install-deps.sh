@@ -18,6 +18,8 @@ packages=(
   passwd util-linux
   # clang + its runtime (libFuzzer, sanitizers) for fuzzing
   clang libclang-rt-14-dev
+  # the documentation site (docs/, mkdocs.yml): `mkdocs build --strict` in the docs test
+  mkdocs
 )
 
 missing=()

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Accuracy charts: stability maps over h and work-precision (error against cost, per trajectory and
-# per basin map) for every integrator; copies the PNGs into sweeps/figures/ (the README's
-# "Methods: accuracy, cost and stability" section quotes the numbers they print).
+# per basin map) for every integrator; copies the PNGs into sweeps/figures/ (docs/methods.md,
+# "Accuracy, cost and stability", quotes the numbers they print).
 #   bash jobs/accuracy_charts.sh [--quick]
 # Writes out/stability/ and out/work_precision/ (HDF5, work_precision.json, PNGs, and the printed
 # tables in *.log). Runs from any directory; builds build/contactsweep if it is missing.

@@ -69,6 +69,8 @@ expect "t_end not a whole number of steps" 2 "whole number of steps" "$d" -- \
 expect "--set without '='" 2 "integrator.h" "$d" -- "$bin" run "$work/good.toml" --set integrator.h
 expect "--set of an unknown key" 2 "integrator.hh" "$d" -- "$bin" run "$work/good.toml" --set integrator.hh=0.1
 expect "--set h = 0" 2 "integrator.h" "$d" -- "$bin" run "$work/good.toml" --set integrator.h=0
+expect "the literature's s where z is meant" 2 "contactsweep calls it z (z = −s), so its value changes sign: did you mean 'initial.z'?" "$d" -- \
+  "$bin" run "$work/good.toml" --set initial.s=1.0
 expect "unreadable spec" 2 "missing.toml" "$d" -- "$bin" run "$work/missing.toml"
 expect "unknown option" 2 "--frobnicate" "$d" -- "$bin" run "$work/good.toml" --frobnicate
 expect "output directory is a file" 2 "not writable" "$d" -- \

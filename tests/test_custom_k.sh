@@ -188,6 +188,19 @@ $mpiexec -np 3 --oversubscribe "$bin" run duffing.toml -o d31.h5 --quiet 2>"$wor
 for o in d12 d21 d31; do
   check "time-dependent K: $o equals 1x1 bit for bit" /usr/bin/python3 "$compare" d11.h5 "$o.h5"
 done
+# A swept parameter of K needs no value under [scene]: without `F = 0.3` the same data, bit for
+# bit (only the stored spec text differs), from the same cached kernel.
+sed '/^F = 0.3$/d' duffing.toml >duffing_swept.toml
+run duffing_swept.toml -o dsw.h5 2>"$work/stderr" || bad "duffing without a value for the swept F runs"
+check "swept parameter of K without a value under [scene]: the same datasets" py "
+import h5py, numpy as np
+a, b = h5py.File('d11.h5', 'r'), h5py.File('dsw.h5', 'r')
+names = sorted(k for k in a if isinstance(a[k], h5py.Dataset))
+assert names == sorted(b) and 'final_q' in names, (names, sorted(b))
+for k in names:
+    assert np.array_equal(a[k][()].view(np.uint8), b[k][()].view(np.uint8)), k
+assert 'F = 0.3' in a.attrs['spec'] and 'F = 0.3' not in b.attrs['spec']
+"
 
 # ---- two processes building the same new K at once build it once -----------------------------
 export CONTACTSWEEP_CACHE=$work/cache2

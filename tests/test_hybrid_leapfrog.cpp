@@ -68,7 +68,7 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   EXPECT_EQ(x.broken, 0.0);
 }
 
-// The decision of README "Benchmarks" (FMA): each update x + h·f, p − h/2·K_q is rounded once.
+// The decision of docs/methods.md ("Floating-point contraction"): each update x + h·f, p − h/2·K_q is rounded once.
 // One step of the double well, q and p only, written out with std::fma, is the step's bits on
 // every state; unfused, the same formulas differ in the last bit on 6 % of these states, so
 // the test tells the two apart.

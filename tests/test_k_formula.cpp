@@ -375,7 +375,7 @@ TEST(KFormulaPrecision, MissingValueNamesIt) {
 }
 
 // ---- size: bounded stack, near-linear time, a documented limit (issue 22, item 8) --------------
-// Timings are not asserted here; README ("Your own scene") lists them.
+// Timings are not asserted here; docs/performance.md ("K in the spec") lists them.
 
 std::string repeated(const std::string& term, int n, const std::string& sep) {
   std::string s;

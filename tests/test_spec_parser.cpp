@@ -205,6 +205,29 @@ void expect_input_error(const std::string& text, const std::string& fragment) {
   EXPECT_NE(message.find(fragment), std::string::npos) << message;
 }
 
+// A parameter of K that a grid axis sweeps needs no value under [scene]: the axis gives every
+// lane its value, and the run's base value is the axis's first. A value given there anyway is
+// still accepted (specs written before keep their meaning and their outputs' bits).
+TEST(SpecParser, SweptParameterOfKNeedsNoValueUnderScene) {
+  const std::string k = "[scene]\nK = \"p^2/2 + q^2/2 - gamma*z\"\n";
+  const RunSpec swept = parse(k + "[grid]\ngamma = { values = [0.2, 0.1] }\n");
+  ASSERT_EQ(swept.axes.size(), 1U);
+  EXPECT_TRUE(swept.axes[0].is_parameter);
+  EXPECT_EQ(swept.axes[0].target, "gamma");
+  EXPECT_EQ(swept.axes[0].values, (std::vector<double>{0.2, 0.1}));
+  EXPECT_EQ(swept.parameters.at("gamma"), 0.2);
+
+  const RunSpec by_set = parse(k, {"grid.gamma.values=[0.2, 0.1]"});
+  EXPECT_EQ(by_set.axes[0].values, swept.axes[0].values);
+  EXPECT_EQ(by_set.parameters, swept.parameters);
+
+  const RunSpec dummy = parse(k + "gamma = 7.0\n[grid]\ngamma = { values = [0.2, 0.1] }\n");
+  EXPECT_EQ(dummy.axes[0].values, swept.axes[0].values);
+  EXPECT_EQ(dummy.parameters.at("gamma"), 7.0);
+  // The spec text without the dummy reparses to the same run.
+  expect_same(swept, parse(swept.spec_text));
+}
+
 TEST(SpecParser, GridBeyondTheMemoryBudgetIsRefusedBeforeAnyCoordinateIsBuilt) {
   // 2^40 points pass the index check but need 8 TiB: refused before linspace fills 2 x 8 MiB.
   const std::string huge = kDoubleWell +
@@ -815,6 +838,32 @@ const std::vector<BadSpec> kBadSpecs = {
      "title contains a NUL character"},
     {"nul_in_label", "[scene]\nK = \"p^2/2 + q^2/2\"\nlabel = \"osc\\u0000illator\"\n", {},
      "scene.label contains a NUL character"},
+    // The literature's s where contactsweep's z (= −s) is meant: said so, with the z name.
+    {"s_initial", kDw + "[initial]\ns = 1.0\n", {},
+     "unknown key 'initial.s' (contactsweep calls it z (z = −s), so its value changes sign: "
+     "did you mean 'initial.z'?)"},
+    {"s_axis", kDw + "[grid]\ns_0 = { values = [1.0] }\n", {},
+     "unknown key 'grid.s_0' (contactsweep calls it z (z = −s), so its value changes sign: "
+     "did you mean 'grid.z_0'?)"},
+    {"s_axis_by_set", kDw, {"grid.s_0.values=[1.0]"},
+     "--set grid.s_0.values=[1.0]: unknown key 'grid.s_0' (contactsweep calls it z"},
+    {"s_final_vars", kDw + "[measures]\nfinal_state = { vars = [\"q\", \"s\"] }\n", {},
+     "measures.final_state.vars[1] = \"s\": expected a variable of scene 'double_well': "
+     "q, p, z, lambda (contactsweep calls it z (z = −s), so its value changes sign: "
+     "did you mean 'z'?)"},
+    {"final_s_measure", kDw + "[measures]\nfinal_s = true\n", {},
+     "unknown key 'measures.final_s' (contactsweep calls it z (z = −s));"},
+    {"s_in_K", "[scene]\nK = \"p^2/2 + q^2/2 + gamma*s\"\ngamma = 0.1\n", {},
+     "scene.K: symbol 's' is neither a variable (q, p, z, t, pi) nor a parameter valued in "
+     "[scene]: add s = <number> under [scene], or sweep it as a grid axis (contactsweep calls "
+     "it z (z = −s), so its value changes sign: did you mean 'z'?)"},
+    // A parameter of K neither valued nor swept: both ways out are named.
+    {"K_parameter_unvalued", "[scene]\nK = \"p^2/2 + q^2/2 - gamma*z\"\n[grid]\nq_0 = { values = [1.0] }\n",
+     {}, "add gamma = <number> under [scene], or sweep it as a grid axis"},
+    // The stroboscopic period not a whole number of steps: the largest valid h below is named.
+    {"period_not_whole_steps", kDw + "[measures]\nbasin = { period = 1.005 }\n", {},
+     "period / h = 100.5 at h = 0.01; choose h = period / N, e.g. h = 0.00995049504950495 "
+     "(N = 101)"},
 };
 // clang-format on
 

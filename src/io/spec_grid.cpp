@@ -24,6 +24,11 @@ void SpecReader::read_grid() {
   for (AxisDraft& draft : drafts) {
     if (draft.n > 0) draft.axis.values = linspace(draft.from, draft.to, draft.n);
     check_axis_values(draft);
+    // A parameter of K swept here and not valued under [scene] (read_custom_scene): the run's
+    // base value is the axis's first, so every parameter has a finite value; each lane gets its
+    // own from the axis.
+    if (draft.axis.is_parameter && !spec_.parameters.contains(draft.axis.target))
+      spec_.parameters[draft.axis.target] = draft.axis.values.front();
     spec_.axes.push_back(std::move(draft.axis));
   }
 }

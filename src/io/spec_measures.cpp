@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -74,7 +75,9 @@ void SpecReader::read_final_state(const toml::table& measures) {
     if (!contains(all, var))
       fail_value(*list.get(i), key,
                  fmt::format("a variable of scene '{}': {}{}", scene_->name, fmt::join(all, ", "),
-                             did_you_mean(var, all, "")));
+                             contact_variable_hint(var, all, "").empty()
+                                 ? did_you_mean(var, all, "")
+                                 : contact_variable_hint(var, all, "")));
     if (contains(chosen, var)) fail_value(*list.get(i), key, "each variable once");
     chosen.push_back(var);
   }
@@ -166,10 +169,14 @@ void SpecReader::read_basin_period(const toml::node& node, BasinMeasure& basin) 
   for (double h : hs) {
     const double ratio = period / h;
     const auto steps = std::llround(ratio);
-    if (steps < 1 || std::abs(static_cast<double>(steps) * h - period) > kStepTolerance * period)
+    if (steps < 1 || std::abs(static_cast<double>(steps) * h - period) > kStepTolerance * period) {
+      // The largest h' <= h with a whole number of steps per period.
+      const double n = std::max(1.0, std::ceil(ratio - kStepTolerance * ratio));
       fail(&node, fmt::format("{} = {}: the stroboscopic map needs a whole number of steps per "
-                              "period, but period / h = {:.12g} at h = {}; choose h = period / N",
-                              key, period, ratio, h));
+                              "period, but period / h = {:.12g} at h = {}; choose h = period / N, "
+                              "e.g. h = {:.15g} (N = {:.0f})",
+                              key, period, ratio, h, period / n, n));
+    }
   }
   basin.period = period;
 }

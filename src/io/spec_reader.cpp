@@ -50,7 +50,8 @@ void SpecReader::check_keys(const toml::table& table, std::string_view prefix,
                             const Names& allowed) const {
   for (const auto& [key, node] : table) {
     if (contains(allowed, key.str())) continue;
-    std::string hint = did_you_mean(key.str(), allowed, prefix);
+    std::string hint = contact_variable_hint(key.str(), allowed, prefix);
+    if (hint.empty()) hint = did_you_mean(key.str(), allowed, prefix);
     if (hint.empty()) hint = elsewhere_hint(key.str(), prefix);
     fail(&node,
          fmt::format("unknown key '{}'{}; valid {}: {}", dotted(prefix, key.str()), hint,

@@ -56,11 +56,15 @@ void SpecReader::read_custom_scene(const toml::table& t, const toml::node& k) {
   const Names parameters = parameter_names(*scene_);
   const Names state = variable_names(*scene_);  // q.., p.., z, lambda: K may use all but λ
   const Names positions_momenta(state.begin(), state.begin() + 2 * scene_->dof);
+  // A parameter swept by a grid axis takes its values from the axis (read_grid fills in
+  // spec_.parameters then), so it needs no value here.
   for (const std::string& p : parameters)
-    if (t.get(p) == nullptr)
+    if (t.get(p) == nullptr && !contains(grid_order_, p))
       fail(&k, fmt::format("scene.K: symbol '{}' is neither a variable ({}, z, t, pi) nor a "
-                           "parameter valued in [scene]: add {} = <number> under [scene]",
-                           p, fmt::join(positions_momenta, ", "), p));
+                           "parameter valued in [scene]: add {} = <number> under [scene], or "
+                           "sweep it as a grid axis{}",
+                           p, fmt::join(positions_momenta, ", "), p,
+                           contact_variable_hint(p, {"z"}, "")));
   for (const auto& [key, value] : t) {
     const std::string_view k_name = key.str();
     if (k_name == "K" || k_name == "label" || contains(parameters, std::string(k_name))) continue;
@@ -69,6 +73,7 @@ void SpecReader::read_custom_scene(const toml::table& t, const toml::node& k) {
                              k_name, parameters.empty() ? "none" : fmt::format("{}", fmt::join(parameters, ", "))));
   }
   for (const std::string& p : parameters) {
+    if (t.get(p) == nullptr) continue;  // swept: see above
     const double value = number(*t.get(p), "scene." + p);
     if (!std::isfinite(value)) fail_value(*t.get(p), "scene." + p, "a finite number");
     spec_.parameters[p] = value;

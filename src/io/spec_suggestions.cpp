@@ -62,7 +62,38 @@ std::optional<std::string> closest(std::string_view key, const Names& candidates
   return best;
 }
 
+// `key` with its word "s" (whole, or a part between underscores) spelled z: "" if it has none.
+std::string with_z_for_s(std::string_view key) {
+  std::string out;
+  bool found = false;
+  std::size_t begin = 0;
+  while (begin <= key.size()) {
+    const std::size_t end = std::min(key.find('_', begin), key.size());
+    const std::string_view part = key.substr(begin, end - begin);
+    if (begin > 0) out += '_';
+    if (part == "s") {
+      out += 'z';
+      found = true;
+    } else {
+      out += part;
+    }
+    begin = end + 1;
+  }
+  return found ? out : "";
+}
+
 }  // namespace
+
+std::string contact_variable_hint(std::string_view key, const Names& candidates,
+                                  std::string_view prefix) {
+  const std::string z_name = with_z_for_s(key);
+  if (z_name.empty()) return "";
+  const std::string note = "contactsweep calls it z (z = −s)";
+  if (contains(candidates, z_name))
+    return fmt::format(" ({}, so its value changes sign: did you mean '{}'?)", note,
+                       dotted(prefix, z_name));
+  return fmt::format(" ({})", note);
+}
 
 std::string did_you_mean(std::string_view key, const Names& candidates, std::string_view prefix) {
   const auto near = closest(key, candidates);

@@ -3,7 +3,7 @@
 //
 // Why not std::sin and friends: a call to libm stops GCC from vectorising the loop over lanes,
 // and a lane's bits must not depend on whether and how its loop was vectorised, nor on ranks,
-// threads or lane position (docs/ARCHITECTURE.md, "same spec, same bits"). These functions use
+// threads or lane position (docs/architecture.md, "same spec, same bits"). These functions use
 // IEEE +, −, ×, ÷ and sqrt only (no std::fma, contraction off), exact bit manipulations through
 // std::bit_cast, the exact rounding (x + 1.5·2^52) − 1.5·2^52 and selects as blends of bits;
 // no table lookups, no branch on data. Every path computes the same operations in the same

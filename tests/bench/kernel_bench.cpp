@@ -11,7 +11,7 @@
 //
 // Before timing anything it runs every case once on every path this CPU has and compares the
 // lanes' final states bit for bit (KernelInstance::checksum): the same bits at any vector width
-// is what -ffp-contract=off and std::fma buy (docs/ARCHITECTURE.md). Exit status 1 if a path
+// is what -ffp-contract=off and std::fma buy (docs/architecture.md). Exit status 1 if a path
 // differs.
 #include <benchmark/benchmark.h>
 

@@ -23,8 +23,8 @@ class KernelInstance {
   virtual std::uint64_t checksum() const = 0;
 };
 
-// Floating-point operations per lane-step in the compiled step loop, counted with objdump (README,
-// "The kernel against its roofline"), by the units that can run them. Multiplies and FMAs need an
+// Floating-point operations per lane-step in the compiled step loop, counted with objdump
+// (docs/performance.md, "The kernel against its roofline"), by the units that can run them. Multiplies and FMAs need an
 // FMA unit on every CPU; adds and subtracts share those units on Intel's 512-bit path but have
 // pipes of their own on AMD Zen 4 and 5. So all ops against the FMA peak is the roofline where
 // adds share (the model), and the multiplies and FMAs alone the roofline where they do not.

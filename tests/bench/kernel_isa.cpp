@@ -47,7 +47,7 @@ std::vector<KernelCase> all_cases() {
   // The runs of sweeps/: basins_double_well (t = 100, h = 0.01), sync_g_gamma, and the K
   // showcases, with the parameters written there. Operations per lane-step (the second argument:
   // {multiplies and FMAs, adds and subtracts}; {} = not counted) are read off the compiled step
-  // loop of the AVX-512 path with objdump (README, "The kernel against its roofline"): the double
+  // loop of the AVX-512 path with objdump (docs/performance.md, "The kernel against its roofline"): the double
   // well's q, p step is 3 fused + 4 multiplies + 1 add + 1 subtract = 9 (p − h/2·K_q fused,
   // ·1/a; q + h·p fused; K_q = (q·q − a²)·(q + q); b·p½, then − h/2·K_q fused); the full state
   // adds z and its K − pK_p at two points, ln λ and t (8 fused + 15.5 multiplies + 8.5 adds, the
