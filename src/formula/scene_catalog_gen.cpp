@@ -167,7 +167,7 @@ std::string catalog_source(const std::vector<Entry>& entries) {
     << "std::vector<SceneInfo> builtin_scene_infos() {\n  std::vector<SceneInfo> scenes;\n";
   for (const Entry& e : entries) {
     const cs::KTraits& tr = e.formula.traits;
-    std::vector<std::string> measures{"final_state", "trajectory", "basin"};
+    std::vector<std::string> measures{"final_state", "trajectory", "basin", "lyapunov"};
     if (tr.dof >= 2) measures.push_back("sync");
     std::vector<std::string> split;
     if (tr.z_part)

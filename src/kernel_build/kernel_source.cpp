@@ -1,5 +1,6 @@
 #include "kernel_build/kernel_source.hpp"
 
+#include <cctype>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -32,14 +33,29 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}}}, {uniform}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
       fmt::arg("scene", scene_header), fmt::arg("header", m.header), fmt::arg("entry", kKernelEntry),
       fmt::arg("scene_struct", scene_struct), fmt::arg("method", m.type),
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
+      fmt::arg("tangent", choice.carry.tangent),
       fmt::arg("uniform", choice.uniform_parameters));
+}
+
+SceneSource builtin_scene_source(const std::string& name) {
+  std::string type;
+  bool upper = true;
+  for (char ch : name) {
+    if (ch == '_') {
+      upper = true;
+      continue;
+    }
+    type += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(ch))) : ch;
+    upper = false;
+  }
+  return {fmt::format("#include \"physics/{}.hpp\"\n", name), type};
 }
 
 std::string with_kernel_key(const std::string& source, const std::string& key) {

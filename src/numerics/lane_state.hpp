@@ -4,6 +4,7 @@
 #pragma once
 
 #include "numerics/lane_math.hpp"
+#include "numerics/lane_math_dual.hpp"  // the same step on dual numbers
 #include "physics/partials.hpp"
 
 namespace cs {
@@ -82,6 +83,8 @@ inline T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
 struct Carry {
   bool z;
   bool mu;
+  bool tangent = false;  // the lyapunov measure's tangent vector (engine/measures/): kernels
+                         // built at run time only, so the built-in dispatch never has it
 };
 
 }  // namespace cs
