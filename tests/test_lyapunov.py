@@ -160,7 +160,7 @@ for t_end in (100.0, 400.0):
 # tests/reference/duffing_lyapunov.py: scipy DOP853 (rtol 1e-11) + variational equations, 8
 # trajectories from rest, transient 200 dropped, T = 10^4 each: mean and standard deviation.
 DUFFING_REFERENCE, DUFFING_REFERENCE_STD, DUFFING_REFERENCE_T, DUFFING_REFERENCE_N = (
-    0.10451, 0.0065, 1e4, 4)
+    0.10514, 0.0062, 1e4, 8)
 DUFFING = """[scene]
 K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
 delta = 0.3

@@ -1,10 +1,10 @@
 #include "kernel_build/kernel_source.hpp"
 
-#include <cctype>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "formula/k_formula.hpp"
 #include "numerics/method_list.hpp"
 
 namespace cs {
@@ -45,17 +45,7 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
 }
 
 SceneSource builtin_scene_source(const std::string& name) {
-  std::string type;
-  bool upper = true;
-  for (char ch : name) {
-    if (ch == '_') {
-      upper = true;
-      continue;
-    }
-    type += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(ch))) : ch;
-    upper = false;
-  }
-  return {fmt::format("#include \"physics/{}.hpp\"\n", name), type};
+  return {fmt::format("#include \"physics/{}.hpp\"\n", name), scene_struct_name(name)};
 }
 
 std::string with_kernel_key(const std::string& source, const std::string& key) {
