@@ -25,8 +25,8 @@ void SpecReader::read_lyapunov(const toml::table& measures) {
   const char* key = "measures.lyapunov.vars";
   const toml::array& list = array(*vars, key);
   if (list.empty())
-    fail_value(*vars, key, fmt::format("at least one of {} (or lyapunov = false)",
-                                       fmt::join(usable, ", ")));
+    fail_value(*vars, key,
+               fmt::format("at least one of {} (or lyapunov = false)", fmt::join(usable, ", ")));
   Names chosen;
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string item = fmt::format("{}[{}]", key, i);

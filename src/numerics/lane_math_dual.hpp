@@ -18,12 +18,25 @@
 namespace cs {
 
 // Comparisons look at values (a branch-free step compares λ factors: hybrid_leapfrog.hpp).
-template <class T> constexpr bool operator<(Dual<T> a, Dual<T> b) { return a.v < b.v; }
-template <class T> constexpr bool operator<=(Dual<T> a, double c) { return a.v <= c; }
-template <class T> constexpr bool operator<(Dual<T> a, double c) { return a.v < c; }
-template <class T> constexpr bool operator>(Dual<T> a, double c) { return a.v > c; }
+template <class T>
+constexpr bool operator<(Dual<T> a, Dual<T> b) {
+  return a.v < b.v;
+}
+template <class T>
+constexpr bool operator<=(Dual<T> a, double c) {
+  return a.v <= c;
+}
+template <class T>
+constexpr bool operator<(Dual<T> a, double c) {
+  return a.v < c;
+}
+template <class T>
+constexpr bool operator>(Dual<T> a, double c) {
+  return a.v > c;
+}
 // A breakdown counter (LaneState::broken) counts in its value.
-template <class T, class N> requires std::is_arithmetic_v<N>
+template <class T, class N>
+requires std::is_arithmetic_v<N>
 constexpr Dual<T>& operator+=(Dual<T>& a, N n) {
   a.v += n;
   return a;

@@ -24,8 +24,7 @@ class LyapunovLanes {
 };
 
 template <Scene S, class Method, Carry carry, int W>
-  requires(carry.tangent)
-class LyapunovLanes<S, Method, carry, W> {
+requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   static constexpr int D = S::dof;
   using Tile = LaneTile<S, Method, W>;
 

@@ -14,10 +14,11 @@
 // carries its tangent too, since the next step starts from it.
 //
 // Renormalisation: the tangent is scaled by 2^∓256 whenever its largest component leaves
-// [2^-256, 2^256) (checked every chunk), and the powers are counted. The linearised step is linear
-// in v, and scaling by a power of two commutes exactly with every rounding, so the tangent's
-// bits do not depend on when it was scaled: a lane has the same value on any ranks and threads,
-// in the main tile or the finisher. lyapunov = (256·ln 2·folds + ln‖v_n‖ − ln‖v_0‖) / (n·h).
+// [2^-256, 2^256) (checked every 32 steps and at the end of each advance), and the powers are
+// counted. The linearised step is linear in v, and scaling by a power of two commutes exactly
+// with every rounding, so the tangent's bits do not depend on when it was scaled: a lane has the
+// same value on any ranks and threads, in the main tile or the finisher. lyapunov = (256·ln 2·folds
+// + ln‖v_n‖ − ln‖v_0‖) / (n·h).
 #pragma once
 
 #include <array>
@@ -56,7 +57,8 @@ ParamsOf<S, Tangent> params_as_tangent(const ParamsOf<S, double>& c) {
   return as_tangent<S::template Params>(c);
 }
 template <class Method>
-typename Method::template Coef<Tangent> coef_as_tangent(const typename Method::template Coef<double>& k) {
+typename Method::template Coef<Tangent> coef_as_tangent(
+    const typename Method::template Coef<double>& k) {
   return as_tangent<Method::template Coef>(k);
 }
 
@@ -139,6 +141,8 @@ LaneTangent<S::dof> seeded_tangent(const LaneState<S::dof>& x, const ParamsOf<S,
 template <Scene S, class Method, Carry carry>
 double lane_lyapunov(LaneState<S::dof>& x, const ParamsOf<S, double>& c, std::int64_t steps,
                      double h, const std::vector<double>& seed, double log_norm0) {
+  // Without ln λ: the hybrid leap-frog's λ products would need the tile's folding.
+  static_assert(!carry.mu, "lane_lyapunov integrates no ln lambda");
   constexpr int D = S::dof;
   constexpr int N = 2 * D + (tangent_has_z<S>() ? 1 : 0);
   const auto coef = Method::template coefficients<S>(h, c, x);

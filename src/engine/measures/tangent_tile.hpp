@@ -50,16 +50,26 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
         x.p[d] = {t.p[d][i], g.v[D + d][i]};
         x.kq[d] = {t.kq[d][i], g.dkq[d][i]};
       }
-      if constexpr (with_z) x.z = {t.z[i], tangent_has_z<S>() ? g.v[2 * D][i] : 0.0};
-      else x.z = {0.0, 0.0};
-      if constexpr (carry.mu) x.mu = {t.mu[i], 0.0}; else x.mu = {0.0, 0.0};
+      if constexpr (with_z)
+        x.z = {t.z[i], tangent_has_z<S>() ? g.v[2 * D][i] : 0.0};
+      else
+        x.z = {0.0, 0.0};
+      if constexpr (carry.mu)
+        x.mu = {t.mu[i], 0.0};
+      else
+        x.mu = {0.0, 0.0};
       if constexpr (carry.mu && !S::kz_constant) {
         x.lambda_numerator = {t.lambda_numerator[i], 0.0};
         x.lambda_denominator = {t.lambda_denominator[i], 0.0};
       }
-      if constexpr (!S::kz_constant) x.broken = {t.broken[i], 0.0}; else x.broken = {0.0, 0.0};
-      if constexpr (time_dependent<S>()) x.t = {t_start + (t.steps_done[i] + s) * h, 0.0};
-      else x.t = {0.0, 0.0};
+      if constexpr (!S::kz_constant)
+        x.broken = {t.broken[i], 0.0};
+      else
+        x.broken = {0.0, 0.0};
+      if constexpr (time_dependent<S>())
+        x.t = {t_start + (t.steps_done[i] + s) * h, 0.0};
+      else
+        x.t = {0.0, 0.0};
       if constexpr (Uniform) {
         Method::template step<S, carry>(x, c0, k0);
       } else {
