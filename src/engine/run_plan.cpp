@@ -101,6 +101,17 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
 
   if (measures.basin) add_basin_columns(*measures.basin);
 
+  if (measures.lyapunov) {
+    map.lyapunov = add({"lyapunov", ElementType::float64, false,
+                        "finite-time largest Lyapunov exponent of the integrator's step map",
+                        "1/time", {}, "", std::nullopt});
+    const auto& vars = measures.lyapunov->vars;
+    for (int k = 0; k <= 2 * scene.dof; ++k)  // q.., p.., z: the catalog's order
+      lyapunov_seed.push_back(wants(vars, scene.variables[static_cast<std::size_t>(k)].name));
+    lyapunov_log_norm0 = 0.5 * std::log(static_cast<double>(vars.size()));
+    carry.tangent = true;
+  }
+
   if (measures.sync) {
     // The window's ends, rounded inwards to the looks at the lanes.
     const double from = measures.sync->window_from - spec.t_start;

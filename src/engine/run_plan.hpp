@@ -52,6 +52,7 @@ struct ColumnMap {
   // ended undecided (UndecidedReason)
   int basin_cells = -1, undecided_reason = -1;
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
+  int lyapunov = -1;
 };
 
 // The `basin` dataset's long_name when its labels are numbers 1..n (LabelRule::numbered).
@@ -78,6 +79,10 @@ struct RunPlan {
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
   AttractorSearch attractors;
+  // The lyapunov measure's first tangent (1 in each chosen q.., p.., z; engine/measures/) and
+  // ln of its norm.
+  std::vector<double> lyapunov_seed;
+  double lyapunov_log_norm0 = 0.0;
   RecurrenceSearch recurrence;
   std::vector<ColumnSpec> columns;
   ColumnMap map;

@@ -32,7 +32,7 @@ std::shared_ptr<const CustomScene> make_custom_scene(const std::string& K,
   info.dof = f.traits.dof;
   for (const auto& p : f.parameters) info.parameters.push_back({p, 0.0, "parameter of K"});
   info.variables = variables_of(f);
-  info.measures = {"final_state", "trajectory", "basin"};
+  info.measures = {"final_state", "trajectory", "basin", "lyapunov"};
   if (info.dof >= 2) info.measures.push_back("sync");  // of any two degrees of freedom
   info.split_parts = split_parts_of(f.traits);
   info.z_feeds_back = f.traits.z_feeds_back;
