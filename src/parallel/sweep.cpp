@@ -172,7 +172,8 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
   });
 }
 
-// Rank 0: the output is in place, so the run has succeeded whatever happens here.
+// Rank 0: the output is in place (or the run was stopped and its journal is of no use), so
+// whatever happens here changes nothing of the outcome.
 void remove_finished_journal(Journal& journal) {
   try {
     journal.remove();
@@ -315,9 +316,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   watch.finish();
   throw_if_any_failed(comm, failure);
-  if (stop_requested())  // serial only (RunControl): no other rank to agree with
-    throw Interrupted("stopped on request; the finished blocks are saved in " +
-                      journal.directory());
+  // Serial only (RunControl): no other rank to agree with. The caller (the Python module) has
+  // no --resume, and a journal resumes only under the build that wrote it: nobody could use
+  // it, and it would refuse the next run to this output. Removed.
+  if (stop_requested()) {
+    remove_finished_journal(journal);  // a failure to remove it is a warning, as there
+    throw Interrupted("stopped on request; nothing written");
+  }
   check_every_point_computed(results, plan.grid.size(), c);
   std::optional<BasinSummary> basins;
   if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);

@@ -25,8 +25,8 @@ struct SweepOptions {
   RunControl* control = nullptr;  // watched from another thread: progress, stop (one process)
 };
 
-// The run was stopped through its RunControl: no block started after the request, the finished
-// ones are saved in the journal, no output was written.
+// The run was stopped through its RunControl: no block started after the request, no output
+// written, the journal removed (sweep.cpp).
 class Interrupted : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
