@@ -68,10 +68,11 @@ def assert_dataset_is_file(ds, path):
 
 @pytest.fixture
 def private_tmpdir(tmp_path, monkeypatch):
-    """tempfile's directory moved to tmp_path/tmp, so that a test sees what run() leaves there."""
+    """The temporary directory moved to tmp_path/tmp, so that a test sees what run() leaves there."""
     import tempfile
 
     directory = tmp_path / "tmp"
     directory.mkdir()
-    monkeypatch.setattr(tempfile, "tempdir", str(directory))
+    monkeypatch.setenv("TMPDIR", str(directory))  # run() then uses tempfile's directory ...
+    monkeypatch.setattr(tempfile, "tempdir", str(directory))  # ... which tempfile caches
     return directory

@@ -40,6 +40,19 @@ def test_text_spec_without_output_equals_the_cli_and_leaves_nothing(tmp_path, pr
     assert list(private_tmpdir.iterdir()) == []  # the private directory and its file are gone
 
 
+def test_without_tmpdir_the_scratch_is_dev_shm_and_is_removed(tmp_path, monkeypatch):
+    for name in ("TMPDIR", "TEMP", "TMP"):
+        monkeypatch.delenv(name, raising=False)
+    assert contactsweep._scratch_roots()[0] == "/dev/shm"
+    (tmp_path / "map.toml").write_text(SMALL_MAP)
+    assert cli_run(tmp_path / "map.toml", tmp_path / "cli.h5").returncode == 0
+    ours = lambda: {p for p in os.listdir("/dev/shm") if p.startswith("contactsweep-")}  # noqa: E731
+    before = ours()
+    ds = contactsweep.run(SMALL_MAP, progress=False)
+    assert_dataset_is_file(ds, tmp_path / "cli.h5")
+    assert ours() <= before
+
+
 def test_dict_spec_with_k_equals_the_cli(tmp_path):
     # The forced, damped Duffing oscillator as K; the dict's axis order is the grid's order.
     spec = {
