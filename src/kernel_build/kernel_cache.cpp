@@ -88,7 +88,7 @@ std::string header_directory() {
   std::error_code error;
   const fs::path code = code_file();
   if (code.empty()) return toolchain_config::kSnapshotIncludeDir;
-  for (const fs::path relative :
+  for (const fs::path& relative :
        {fs::path(toolchain_config::kInstalledIncludeDir),
         fs::path("../../..") / toolchain_config::kInstalledIncludeDir}) {
     const fs::path installed = code.parent_path() / relative;

@@ -5,9 +5,9 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
-#include <stdexcept>
 #include <filesystem>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "io/spec_parser.hpp"

@@ -17,7 +17,7 @@ namespace cs {
 struct RunArguments {
   std::string spec_path;  // read by rank 0, unless spec_text is given; names the spec in messages
   std::optional<std::string> spec_text;  // the spec itself (the module's TOML text or dict)
-  std::string output;  // empty: the spec's name with .h5, in the current directory
+  std::string output;         // empty: the spec's name with .h5, in the current directory
   bool output_given = false;  // -o was passed (an empty -o '' is an error, not the default)
   std::vector<std::string> overrides;
   bool resume = false;
@@ -32,7 +32,7 @@ struct RunArguments {
 };
 
 struct RunOutcome {
-  std::string output;  // the file written (or found complete)
+  std::string output;      // the file written (or found complete)
   std::int64_t steps = 0;  // per trajectory, for the rate the CLI reports
   SweepSummary summary;
 };
