@@ -172,7 +172,8 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
   });
 }
 
-// Rank 0: the output is in place, so the run has succeeded whatever happens here.
+// Rank 0: the output is in place (or the run was stopped and its journal is of no use), so
+// whatever happens here changes nothing of the outcome.
 void remove_finished_journal(Journal& journal) {
   try {
     journal.remove();
@@ -218,6 +219,22 @@ KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Com
   return kernel;
 }
 
+// A RunControl sees the reporter of the loop, and only while it lives.
+class Attached {
+ public:
+  Attached(RunControl* control, const ProgressReporter& progress) : control_(control) {
+    if (control_ != nullptr) control_->attach(&progress);
+  }
+  ~Attached() {
+    if (control_ != nullptr) control_->attach(nullptr);
+  }
+  Attached(const Attached&) = delete;
+  Attached& operator=(const Attached&) = delete;
+
+ private:
+  RunControl* control_;
+};
+
 }  // namespace
 
 SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Comm comm) {
@@ -260,7 +277,11 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     });
 
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
-                            !options.quiet && c.rank == 0);
+                            !options.quiet && c.rank == 0 && options.control == nullptr);
+  Attached attached(options.control, progress);
+  const auto stop_requested = [control = options.control] {
+    return control != nullptr && control->stop_requested();
+  };
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
   std::atomic<std::int64_t> computed{0};
   std::exception_ptr failure;
@@ -271,7 +292,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       [&] { watch.report_failure(); });  // no thread of any rank starts another block
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    if (!watch.stop()) {
+    if (!watch.stop() && !stop_requested()) {
       try {
         const std::int64_t n = blocks[i].range.end - blocks[i].range.begin;
         results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
@@ -299,6 +320,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   watch.finish();
   throw_if_any_failed(comm, failure);
+  // Serial only (RunControl): no other rank to agree with. The caller (the Python module) has
+  // no --resume, and a journal resumes only under the build that wrote it: nobody could use
+  // it, and it would refuse the next run to this output. Removed.
+  if (stop_requested()) {
+    remove_finished_journal(journal);  // a failure to remove it is a warning, as there
+    throw Interrupted("stopped on request; nothing written");
+  }
   check_every_point_computed(results, plan.grid.size(), c);
   std::optional<BasinSummary> basins;
   if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);
