@@ -14,6 +14,8 @@ packages=(
   libginac-dev  # K in the spec: parsed to GiNaC expressions, derivatives for its traits
   # post-processing and tests/test_post.py (Debian's /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib python3-xarray python3-h5netcdf
+  # the Python module (src/python/): pybind11, its tests (pytest), its progress bar (tqdm)
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
   # tests: a second and third user for the security test (useradd, setpriv), taskset
   passwd util-linux
   # clang + its runtime (libFuzzer, sanitizers) for fuzzing
@@ -51,5 +53,5 @@ fi
 "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
   apt-get install -y --no-install-recommends "${missing[@]}"
 
-/usr/bin/python3 -c "import numpy, h5py, matplotlib, xarray, h5netcdf"
+/usr/bin/python3 -c "import numpy, h5py, matplotlib, xarray, h5netcdf, pytest, tqdm"
 echo "install-deps: done"

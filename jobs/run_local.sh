@@ -31,7 +31,7 @@ run() {  # run NAME: sweeps/NAME.toml -> out/NAME.h5
 for name in paper_fig1a paper_fig1b paper_fig2 paper_fig3; do
   run "$name"
 done
-for name in basins_double_well sync_g_gamma; do  # the maps, once their specs are written
+for name in basins_double_well sync_g_gamma lyapunov_duffing; do  # the maps, once their specs are written
   if [[ -f sweeps/$name.toml ]]; then run "$name"; else echo "== $name: no sweeps/$name.toml, skipped"; fi
 done
 

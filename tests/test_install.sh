@@ -46,5 +46,19 @@ if [[ -n $source ]] && c++ -std=c++20 -fsyntax-only -I"$work/prefix/share/contac
      "${mpi_dirs[@]}" "$source" >"$work/log" 2>&1; then
   ok "the kernel source needs only the installed headers"
 else bad "the kernel source needs only the installed headers"; fi
+# The Python module, when the build has it: the installed package is the one imported, finds
+# the installed headers for its K kernel, and returns the installed program's values.
+if [[ -f $build/python/contactsweep/__init__.py ]]; then
+  site=("$work"/prefix/lib/python3*/dist-packages)
+  if (cd "$work" && PYTHONPATH=${site[0]} /usr/bin/python3 -c '
+import sys, h5py, contactsweep
+assert contactsweep.__file__.startswith(sys.argv[1]), contactsweep.__file__
+ds = contactsweep.run("spec.toml", progress=False)
+with h5py.File("out.h5") as f:
+    assert ds.final_q.values.tobytes() == f["final_q"][()].tobytes()
+' "${site[0]}") >"$work/log" 2>&1; then
+    ok "the installed Python module runs a K kernel with the installed program's bits"
+  else bad "the installed Python module runs a K kernel with the installed program's bits"; fi
+fi
 echo "$passed passed, $failed failed"
 ((failed == 0))

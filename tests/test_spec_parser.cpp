@@ -438,7 +438,7 @@ TEST(SpecParser, SyncWindowGivenOrSecondHalfOfTheRun) {
 
 TEST(SpecParser, EachSceneAcceptsExactlyTheMeasuresItSupports) {
   for (const SceneInfo& scene : scene_catalog()) {
-    for (const char* measure : {"final_state", "trajectory", "basin", "sync"}) {
+    for (const char* measure : {"final_state", "trajectory", "basin", "sync", "lyapunov"}) {
       SCOPED_TRACE(scene.name + " / " + measure);
       const std::string text =
           "[scene]\nname = \"" + scene.name + "\"\n[measures]\n" + measure + " = true\n";

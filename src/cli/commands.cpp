@@ -3,50 +3,27 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
-#include <filesystem>
-
 #include "io/log.hpp"
-#include "io/spec_parser.hpp"
-#include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
 #include "numerics/method_catalog.hpp"
-#include "parallel/sweep.hpp"
+#include "parallel/run_entry.hpp"
 #include "physics/scene_catalog.hpp"
 
 namespace cs {
 
-// Rank 0 alone reads the spec (a path such as /dev/stdin, or a file on a node-local disk, may
-// be readable there only) and every rank parses the same text; the parse also checks the grid
-// against each node's memory, so its outcome is agreed.
-RunSpec agreed_spec(const RunArguments& args, MPI_Comm comm) {
-  const int rank = rank_of(comm);
-  std::string text = agreed(comm, [&] { return rank == 0 ? read_spec_file(args.spec_path) : ""; });
-  broadcast(comm, text);
-  return agreed(comm, [&] { return parse_run_spec(text, args.overrides, args.spec_path); });
-}
-
 int run_command(const RunArguments& args, MPI_Comm comm) {
   const int rank = rank_of(comm);
-  if (args.output_given && args.output.empty())
-    throw InputError("-o: the output path is empty; name a file, e.g. -o basins.h5");
-  RunSpec spec = agreed_spec(args, comm);
-  SweepOptions options;
-  options.output = args.output.empty()
-                       ? std::filesystem::path(args.spec_path).stem().string() + ".h5"
-                       : args.output;
-  options.force = args.force;
-  options.resume = args.resume;
-  options.quiet = args.quiet;
-  options.command_line = args.command_line;
-  SweepSummary s = run_sweep(spec, options, comm);
+  const RunOutcome outcome = run(args, comm);
+  const SweepSummary& s = outcome.summary;
+  const std::int64_t steps = outcome.steps;
   if (rank != 0 || args.quiet) return 0;
   if (s.already_complete) {
-    log("contactsweep: {} is already complete for this spec; nothing to do", options.output);
+    log("contactsweep: {} is already complete for this spec; nothing to do", outcome.output);
     return 0;
   }
   // The rate counts the points integrated by this invocation, not blocks a resume loaded.
   // Scripts parse "steps in X s" (jobs/bench_basins.sh, work_precision.py): keep that shape.
-  const double rate = static_cast<double>(s.computed_points) * static_cast<double>(spec.steps) /
+  const double rate = static_cast<double>(s.computed_points) * static_cast<double>(steps) /
                       s.seconds;
   const std::string resumed =
       s.computed_points < s.points
@@ -54,7 +31,7 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
                         s.points - s.computed_points, s.computed_points)
           : "";
   // When lanes stop early the nominal rate overstates the work: say what was integrated.
-  const double nominal = static_cast<double>(s.computed_points) * static_cast<double>(spec.steps);
+  const double nominal = static_cast<double>(s.computed_points) * static_cast<double>(steps);
   const std::string integrated =
       static_cast<double>(s.lane_steps) < nominal
           ? fmt::format("; {:.3g} lane-steps integrated ({:.0f} %, the rest stopped early), "
@@ -65,7 +42,7 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
   log("contactsweep: wrote {} ({} points x {} steps in {:.3f} s, {:.3g} traj-steps/s{}{}); "
       "flagged: {} diverged, {} integrator breakdown, {} non-finite output, {} K undefined at "
       "the initial state",
-      options.output, s.points, spec.steps, s.seconds, rate, integrated, resumed,
+      outcome.output, s.points, steps, s.seconds, rate, integrated, resumed,
       s.flagged_diverged, s.flagged_breakdown, s.flagged_non_finite, s.flagged_undefined_at_start);
   return 0;
 }

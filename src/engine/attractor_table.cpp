@@ -1,7 +1,6 @@
 #include "engine/attractor_table.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -12,6 +11,7 @@
 #include "engine/attractor_search.hpp"
 #include "engine/label_rule.hpp"
 #include "engine/recurrence/recurrence_table.hpp"
+#include "engine/settlement_records.hpp"
 
 namespace cs {
 namespace {
@@ -54,34 +54,20 @@ bool by_recurrence(const RunPlan& plan, const double* point) {
   return plan.map.basin_cells >= 0 && point[phase_space(plan)] == 0.0;
 }
 
-const double* point_of(const RunPlan& plan, const BlockResults& block, std::int64_t i) {
-  const int width = phase_space(plan) + 1;
-  return block.columns[static_cast<std::size_t>(plan.map.basin_point)].data() + i * width;
-}
-
-// Whether two lanes' points and periods (phase_space + 1 values) are the same bits. Lanes next
-// to each other mostly settle on the very same point (the energy trap's minima, as found once
-// per run): then whatever was found for the one holds for the other, without a search.
-// A loop, not memcmp: a call to the library's memcmp per lane cost more than it saved.
-bool same_bits(const double* x, const double* y, int values) {
-  for (int k = 0; k < values; ++k)
-    if (std::bit_cast<std::uint64_t>(x[k]) != std::bit_cast<std::uint64_t>(y[k])) return false;
-  return true;
-}
-
 // The candidates of the block's lanes [from, to) (offsets into the block), all at `value` of
 // the continuation axis, appended to `records`.
 void add_point_candidates(const RunPlan& plan, const BlockResults& block, std::int64_t from,
                           std::int64_t to, std::int64_t value, std::vector<double>& records) {
   const int n = phase_space(plan);
-  const auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
   std::vector<Attractor> found;
-  const double* previous = nullptr;  // a sighting already in `found`, or linked to one
+  // A record already in `found`, or linked to one. Records are distinct (settlement_records.hpp):
+  // a lane with the same record as the last one looked at needs no search.
+  const double* previous = nullptr;
   for (std::int64_t i = from; i < to; ++i) {
-    if (labels[static_cast<std::size_t>(i)] == 0.0) continue;
-    const double* point = point_of(plan, block, i);
+    const double* point = settlement_of(plan, block, static_cast<std::size_t>(i));
+    if (point == nullptr) continue;
     if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
-    if (previous != nullptr && same_bits(point, previous, n + 1)) continue;
+    if (point == previous) continue;
     add_sighting(plan, {point, static_cast<int>(point[n])}, found);
     previous = point;
   }
@@ -179,21 +165,21 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
   double previous_label = 0.0;
   std::int64_t value = -1;
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
+    const double* point = settlement_of(plan, block, static_cast<std::size_t>(i));
+    if (point == nullptr) continue;
     double& label = labels[static_cast<std::size_t>(i)];
-    if (label == 0.0) continue;
     if (!along.empty() && axis.value_of(block.range.begin + i) != value) {
       value = axis.value_of(block.range.begin + i);
       previous = nullptr;  // another value, another table
     }
     const std::vector<Attractor>& table =
         along.empty() ? whole : along[static_cast<std::size_t>(value)];
-    const double* point = point_of(plan, block, i);
     if (by_recurrence(plan, point)) {
       const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
       label = recurrence_label(table, &cells[static_cast<std::size_t>(i) * RecurrenceSearch::kRecordWidth]);
       continue;
     }
-    if (previous != nullptr && same_bits(point, previous, n + 1)) {
+    if (point == previous) {
       label = previous_label;
       continue;
     }
@@ -203,7 +189,8 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
       const double d = distance(plan, a.point.data(), point);
       if (d < nearest) nearest = d, label = a.label;
     }
-    if (nearest < INFINITY) previous = point, previous_label = label;
+    if (nearest == INFINITY) label = 0.0;  // never: the table holds every period met
+    else previous = point, previous_label = label;
   }
 }
 

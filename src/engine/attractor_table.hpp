@@ -1,6 +1,6 @@
 // The run's attractors, one table for the whole grid (INTERFACE.md, "Basins of any system").
 //
-// Each settled lane reports the point of its attractor (basin_point). Within a block, lanes whose
+// Each settled lane reports the point of its attractor (settlement_records.hpp). Within a block, lanes whose
 // points lie within kLinkTolerances tolerances of a candidate's point (and have its period) join
 // it; the candidates of all blocks are then merged the same way, in block order, and numbered in
 // a sorted order by the scene's label rule. Blocks are a function of the spec alone (sweep.cpp), so the table and every

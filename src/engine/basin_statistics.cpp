@@ -134,6 +134,7 @@ BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels,
   }
   out.uncertainty_exponent = log_log_slope(out.epsilon_cells, out.uncertain_fraction);
   out.boundary_dimension = shape.plane_axes - out.uncertainty_exponent;
+  if (shape.plane_axes == 2) out.wada = wada_test(labels, g.slices, g.rows, g.columns);
   return out;
 }
 

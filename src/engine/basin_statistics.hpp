@@ -8,6 +8,8 @@
 #include <map>
 #include <vector>
 
+#include "engine/wada_test.hpp"
+
 namespace cs {
 
 // A cell's basin label as the statistics see it: int32, whatever type the file stores it as.
@@ -33,6 +35,7 @@ struct BasinStatistics {
   std::vector<double> uncertain_fraction;
   double uncertainty_exponent = 0.0;
   double boundary_dimension = 0.0;
+  WadaTest wada;  // over every 2-D plane with three basins or more (engine/wada_test.hpp)
 };
 
 BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels, const BasinMapShape& shape);

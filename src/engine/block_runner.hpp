@@ -20,6 +20,7 @@
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
+#include "engine/measures/lyapunov_lanes.hpp"
 #include "engine/run_plan.hpp"
 #include "physics/partials.hpp"
 #include "physics/scene_bounds.hpp"
@@ -111,6 +112,7 @@ class BlockRunner {
     t.set_parameters(i, uniform_params_, uniform_coef_);
     book[i] = Book{};
     t.steps_done[i] = 0.0;
+    lyapunov_.clear(&t == &main_, i);
     mappers_.clear(slot(t, i));
     if (&t == &main_) {
       steps_done_[i] = 0;
@@ -155,6 +157,7 @@ class BlockRunner {
     }
     main_.set_lane(i, x);
     main_.set_parameters(i, c, coef);
+    lyapunov_.seed(i, x, c);
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
     mappers_.arm(i, x, c, b.basin);
@@ -166,8 +169,12 @@ class BlockRunner {
   // ---- stepping ------------------------------------------------------------------------------
 
   void advance_tile(Tile& t, int steps) {
-    advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
-                                       clock_.h, [](int) {});
+    if constexpr (carry.tangent)
+      lyapunov_.template advance<Uniform>(t, &t == &main_, steps, uniform_params_, uniform_coef_,
+                                          clock_.t_start, clock_.h);
+    else
+      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_,
+                                         clock_.t_start, clock_.h, [](int) {});
   }
 
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
@@ -183,7 +190,7 @@ class BlockRunner {
       countdown_[i] -= 1;
       steps_done_[i] += plan_.chunk;
       if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
-      attention_[i] = (!healthy) | (countdown_[i] <= 0);
+      attention_[i] = (!healthy) | (countdown_[i] <= 0) | mappers_.flag(t, i);
     }
     mappers_.screen(t, attention_);
   }
@@ -240,6 +247,7 @@ class BlockRunner {
     fin_.steps_done[j] = main_.steps_done[i];
     fin_book_[j] = main_book_[i];
     mappers_.move(i, W + j);
+    lyapunov_.move(i, j);
     clear(main_, main_book_, i);
     --active_;
   }
@@ -315,7 +323,9 @@ class BlockRunner {
               LaneStatus status) {
     TrapVerdict verdict = TrapVerdict::not_applicable;
     if (plan_.map.trap_verdict >= 0) verdict = mappers_.trap_verdict(c);
-    writer_.finish(b, x, c, status, verdict);
+    Book book = b;
+    lyapunov_.finish(lane_slot, book, status);
+    writer_.finish(book, x, c, status, verdict);
     if (plan_.map.basin_cells >= 0) {
       double record[RecurrenceSearch::kRecordWidth];
       UndecidedReason why = UndecidedReason::not_tracked;
@@ -335,6 +345,7 @@ class BlockRunner {
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
   bool basin_early_stop_ = true;
   MapperSet<S, Uniform, W> mappers_;
+  LyapunovLanes<S, Method, carry, W> lyapunov_{plan_, out_};
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
   // Screening state of the main tile, structure of arrays.

@@ -92,6 +92,23 @@ struct LaneTile {
   }
 };
 
+// The λ factors multiplied up by the hybrid leap-frog stay far from overflow if folded at
+// least every 64 steps; when does not matter for the bits (log_lambda, lane_state.hpp). Called
+// after step s of `steps`.
+template <Scene S, Carry carry, class Method, int W>
+[[gnu::always_inline]] inline void fold_lambda_products(LaneTile<S, Method, W>& t, int s,
+                                                        int steps) {
+  if constexpr (carry.mu && !S::kz_constant) {
+    if ((s & 63) == 63 || s + 1 == steps) {
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        t.lambda_folds[i] = t.lambda_folds[i] + fold_power_of_two(t.lambda_numerator[i]);
+        t.lambda_folds[i] = t.lambda_folds[i] - fold_power_of_two(t.lambda_denominator[i]);
+      }
+    }
+  }
+}
+
 // Advance every lane of the tile by `steps` steps, calling after_step(s) after step s.
 // Parameters come from `uniform` (one set for all lanes) when Uniform, else from the tile.
 // A time-dependent scene's lane is at time t_start + n·h, n from its own step count: the same
@@ -131,17 +148,7 @@ inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, doub
       }
       if constexpr (!S::kz_constant) t.broken[i] = x.broken;
     }
-    // The λ factors multiplied up by the hybrid leap-frog stay far from overflow if folded at
-    // least every 64 steps; when does not matter for the bits (log_lambda, lane_state.hpp).
-    if constexpr (carry.mu && !S::kz_constant) {
-      if ((s & 63) == 63 || s + 1 == steps) {
-#pragma GCC ivdep
-        for (int i = 0; i < W; ++i) {
-          t.lambda_folds[i] = t.lambda_folds[i] + fold_power_of_two(t.lambda_numerator[i]);
-          t.lambda_folds[i] = t.lambda_folds[i] - fold_power_of_two(t.lambda_denominator[i]);
-        }
-      }
-    }
+    fold_lambda_products<S, carry>(t, s, steps);
     after_step(s);
   }
 }

@@ -9,6 +9,7 @@
 
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/settlement_records.hpp"
 #include "engine/sync_tracker.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/energy_wells.hpp"
@@ -35,7 +36,11 @@ class LaneWriter {
   using Book = LaneBook<D>;
 
  public:
-  LaneWriter(const RunPlan& plan, BlockResults& out) : plan_(plan), out_(out) {}
+  LaneWriter(const RunPlan& plan, BlockResults& out)
+      : plan_(plan),
+        out_(out),
+        records_(plan.map.basin_records >= 0 ? out.columns[static_cast<std::size_t>(plan.map.basin_records)]
+                                             : unused_) {}
 
   void record_sample(Book& b, std::int64_t sample, const LaneState<D>& x, const Params& c) {
     double v[kMaxVars], H;
@@ -121,19 +126,14 @@ class LaneWriter {
     H = k == 0.0 ? 0.0 : std::copysign(std::exp(log_lambda_now + std::log(std::fabs(k))), k);
   }
 
-  // The label is provisional here (1: settled): the attractor table, built once every block is
-  // done (attractor_table.hpp), labels the attractors and relabels the lanes.
+  // The label is provisional here (the number of the lane's settlement record, 0: none): the
+  // attractor table, built once every block is done (attractor_table.hpp), labels the
+  // attractors and relabels the lanes.
   void finish_basin(const Book& b, LaneStatus status) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const bool ok = status == LaneStatus::ok && b.basin.settled;
-    double* point = column(map.basin_point, b.point);
-    for (int k = 0; k <= N; ++k) point[k] = nan;
-    if (ok) {
-      for (int k = 0; k < N; ++k) point[k] = b.basin.point[static_cast<std::size_t>(k)];
-      point[N] = b.basin.period;
-    }
-    column(map.basin, b.point)[0] = ok ? 1.0 : 0.0;
+    column(map.basin, b.point)[0] = ok ? records_.provisional_label(b.basin) : 0.0;
     column(map.settle_time, b.point)[0] = ok ? b.basin.settle_time : nan;
   }
 
@@ -157,6 +157,8 @@ class LaneWriter {
 
   const RunPlan& plan_;
   BlockResults& out_;
+  std::vector<double> unused_;  // records_' column where the run maps no basins
+  SettlementRecords<N> records_;
 };
 
 }  // namespace cs

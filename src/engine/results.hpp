@@ -18,6 +18,7 @@ struct ColumnSpec {
   std::int64_t width = 1;
   bool internal = false;  // kept in the journal, never written to the output
   bool per_block = false;  // internal: `width` values for the whole block, not for each point
+  bool grows = false;      // per block: starts empty and grows as the block runs (any length)
 };
 
 // The values of every column for one contiguous range of points.
@@ -29,10 +30,14 @@ struct BlockResults {
   // again when it ends (parallel/progress.hpp): progress inside a block that runs for hours.
   std::atomic<std::int64_t>* in_flight_steps = nullptr;
 
+  std::vector<char> grows;  // per column: ColumnSpec::grows (the journal reads any length)
+
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;
-    for (const auto& s : specs)
-      columns.emplace_back(static_cast<std::size_t>(s.per_block ? s.width : n * s.width), 0.0);
+    for (const auto& s : specs) {
+      columns.emplace_back(static_cast<std::size_t>(s.grows ? 0 : s.per_block ? s.width : n * s.width), 0.0);
+      grows.push_back(s.grows);
+    }
   }
 };
 

@@ -44,12 +44,15 @@ struct ColumnMap {
   std::vector<int> traj_vars;   // per catalog variable, −1 if no trajectory
   int traj_H = -1;
   int basin = -1, settle_time = -1;
-  int basin_point = -1;  // internal: a settled lane's attractor (q.., p.., period), NaN if none
+  // internal, per block: the distinct (q.., p.., period) its settled lanes settled on, each
+  // `width` values (engine/settlement_records.hpp)
+  int basin_records = -1;
   int trap_verdict = -1;  // internal, per block: how many lanes had each TrapVerdict
   // internal, where the recurrence mapper runs: a lane's record (RecurrenceSearch) and why it
   // ended undecided (UndecidedReason)
   int basin_cells = -1, undecided_reason = -1;
   int sync_r = -1, sync_phase_drift = -1, sync_freq_ratio = -1, sync_amplitude = -1;
+  int lyapunov = -1;
 };
 
 // The `basin` dataset's long_name when its labels are numbers 1..n (LabelRule::numbered).
@@ -76,6 +79,10 @@ struct RunPlan {
   std::int64_t samples = 0;       // trajectory samples per point (0: none)
   std::vector<double> sample_times;
   AttractorSearch attractors;
+  // The lyapunov measure's first tangent (1 in each chosen q.., p.., z; engine/measures/) and
+  // ln of its norm.
+  std::vector<double> lyapunov_seed;
+  double lyapunov_log_norm0 = 0.0;
   RecurrenceSearch recurrence;
   std::vector<ColumnSpec> columns;
   ColumnMap map;

@@ -1,5 +1,8 @@
 #include "formula/custom_scene.hpp"
 
+#include <fmt/core.h>
+
+#include <cstdint>
 #include <stdexcept>
 
 namespace cs {
@@ -32,13 +35,19 @@ std::shared_ptr<const CustomScene> make_custom_scene(const std::string& K,
   info.dof = f.traits.dof;
   for (const auto& p : f.parameters) info.parameters.push_back({p, 0.0, "parameter of K"});
   info.variables = variables_of(f);
-  info.measures = {"final_state", "trajectory", "basin"};
+  info.measures = {"final_state", "trajectory", "basin", "lyapunov"};
   if (info.dof >= 2) info.measures.push_back("sync");  // of any two degrees of freedom
   info.split_parts = split_parts_of(f.traits);
   info.z_feeds_back = f.traits.z_feeds_back;
   info.default_h = 0.01;
   info.default_t_end = 100.0;
-  scene->struct_name = "CustomScene";
+  // Named after K: a process that loads several kernels (the Python module, one per run) must
+  // not have two different scenes under one name. Their template instances' static locals
+  // (the energy trap's table of wells) are GNU unique symbols, which the loader merges across
+  // libraries even under RTLD_LOCAL. One K, one header: sharing between its kernels is safe.
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a
+  for (const unsigned char c : K) hash = (hash ^ c) * 1099511628211ull;
+  scene->struct_name = fmt::format("CustomScene{:016x}", hash);
   try {
     scene->header = scene_header(f, scene->struct_name);
   } catch (const InputError&) {

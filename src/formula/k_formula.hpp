@@ -79,6 +79,8 @@ struct SceneHeaderExtras {
 };
 std::string scene_header(const KFormula& f, const std::string& struct_name,
                          const SceneHeaderExtras& extras = {});
+// A built-in scene's struct: its name in CamelCase (double_well: DoubleWell).
+std::string scene_struct_name(const std::string& scene_name);
 
 // Puts f.parameters (sorted by parse_k) in the order given, the order of the generated Params and
 // of a built-in scene's catalog; throws InputError unless `order` names the same parameters.

@@ -41,19 +41,6 @@ struct Entry {
   throw std::runtime_error(where + ": " + message);
 }
 
-std::string camel_case(const std::string& snake) {
-  std::string out;
-  bool upper = true;
-  for (char c : snake) {
-    if (c == '_') {
-      upper = true;
-      continue;
-    }
-    out += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
-    upper = false;
-  }
-  return out;
-}
 
 template <class T>
 T required(const toml::table& t, const std::string& key, const std::string& where) {
@@ -83,7 +70,7 @@ Entry read_entry(const toml::table& t) {
   for (char c : e.name)
     if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_'))
       fail(where, "a scene name is lower case letters, digits and '_'");
-  e.type = camel_case(e.name);
+  e.type = cs::scene_struct_name(e.name);
   e.paper_label = required<std::string>(t, "paper_label", where);
   e.K = required<std::string>(t, "K", where);
   e.parameters = named_list(t, "parameters", where);
@@ -167,7 +154,7 @@ std::string catalog_source(const std::vector<Entry>& entries) {
     << "std::vector<SceneInfo> builtin_scene_infos() {\n  std::vector<SceneInfo> scenes;\n";
   for (const Entry& e : entries) {
     const cs::KTraits& tr = e.formula.traits;
-    std::vector<std::string> measures{"final_state", "trajectory", "basin"};
+    std::vector<std::string> measures{"final_state", "trajectory", "basin", "lyapunov"};
     if (tr.dof >= 2) measures.push_back("sync");
     std::vector<std::string> split;
     if (tr.z_part)

@@ -293,6 +293,20 @@ void order_parameters(KFormula& f, const std::vector<std::string>& order) {
   f.parameters = order;
 }
 
+std::string scene_struct_name(const std::string& scene_name) {
+  std::string out;
+  bool upper = true;
+  for (char c : scene_name) {
+    if (c == '_') {
+      upper = true;
+      continue;
+    }
+    out += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+    upper = false;
+  }
+  return out;
+}
+
 std::string scene_header(const KFormula& f, const std::string& struct_name,
                          const SceneHeaderExtras& extras) {
   if (!valid_identifier(struct_name))

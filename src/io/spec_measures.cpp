@@ -27,8 +27,9 @@ void SpecReader::read_measures() {
   read_trajectory(t);
   read_basin(t);
   read_sync(t);
+  read_lyapunov(t);
   const Measures& m = spec_.measures;
-  if (!m.final_state && !m.trajectory && !m.basin && !m.sync)
+  if (!m.final_state && !m.trajectory && !m.basin && !m.sync && !m.lyapunov)
     fail(node, fmt::format("[measures] requests nothing; scene '{}' supports: {}", scene_->name,
                            fmt::join(scene_->measures, ", ")));
 }

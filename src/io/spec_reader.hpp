@@ -27,7 +27,8 @@ inline constexpr double kMaxSteps = 9007199254740992.0;
 // t_end is a whole number of steps when steps * h is within this of t_end, relative to t_end.
 inline constexpr double kStepTolerance = 1e-9;
 
-inline constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync"};
+inline constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync",
+                                                     "lyapunov"};
 
 template <class Info>
 Names names_of(const std::vector<Info>& infos) {
@@ -131,6 +132,7 @@ class SpecReader {
   void read_sync(const toml::table& measures);
   // Which two degrees of freedom, and the frequencies that scale their momenta.
   void read_sync_pair(const toml::table& t, SyncMeasure& sync);
+  void read_lyapunov(const toml::table& measures);  // spec_lyapunov.cpp
 
   const toml::table& doc_;
   std::string source_name_;

@@ -68,13 +68,30 @@ std::string host_name() {
   return host;
 }
 
+// The file holding this code: the program (PREFIX/bin/contactsweep), or the Python module
+// (PREFIX/lib/python3.X/dist-packages/contactsweep/_core*.so) inside the interpreter, whose
+// /proc/self/exe is python3. dladdr names a shared object by its absolute path; the program
+// it may name as started (relative), hence /proc/self/exe for it.
+fs::path code_file() {
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<void*>(&code_file), &info) != 0 && info.dli_fname != nullptr &&
+      info.dli_fname[0] == '/')
+    return info.dli_fname;
+  std::error_code error;
+  return fs::read_symlink("/proc/self/exe", error);
+}
+
 // The headers a kernel includes: the snapshot installed beside the program (PREFIX/bin/
-// contactsweep -> PREFIX/share/contactsweep/include), else the build tree's.
+// contactsweep -> PREFIX/share/contactsweep/include) or the module (4 levels below PREFIX),
+// else the build tree's.
 std::string header_directory() {
   std::error_code error;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
-  if (!error) {
-    const fs::path installed = exe.parent_path() / toolchain_config::kInstalledIncludeDir;
+  const fs::path code = code_file();
+  if (code.empty()) return toolchain_config::kSnapshotIncludeDir;
+  for (const fs::path& relative :
+       {fs::path(toolchain_config::kInstalledIncludeDir),
+        fs::path("../../..") / toolchain_config::kInstalledIncludeDir}) {
+    const fs::path installed = code.parent_path() / relative;
     if (fs::exists(installed / "HEADERS_SHA256", error))
       return fs::weakly_canonical(installed, error).string();
   }

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "formula/k_formula.hpp"
 #include "numerics/method_list.hpp"
 
 namespace cs {
@@ -32,14 +33,19 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}}}, {uniform}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
       fmt::arg("scene", scene_header), fmt::arg("header", m.header), fmt::arg("entry", kKernelEntry),
       fmt::arg("scene_struct", scene_struct), fmt::arg("method", m.type),
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
+      fmt::arg("tangent", choice.carry.tangent),
       fmt::arg("uniform", choice.uniform_parameters));
+}
+
+SceneSource builtin_scene_source(const std::string& name) {
+  return {fmt::format("#include \"physics/{}.hpp\"\n", name), scene_struct_name(name)};
 }
 
 std::string with_kernel_key(const std::string& source, const std::string& key) {

@@ -20,6 +20,16 @@ struct KernelChoice {
   bool uniform_parameters;
 };
 
+// A built-in scene's header and struct for kernel_source: its generated header
+// (physics/<name>.hpp, in the snapshot) and its CamelCase struct. Built-in scenes are compiled
+// ahead of time for every method and carried state but the lyapunov measure's tangent, whose
+// kernels are built at run time like those of scene.K (no extra instantiations in the binary).
+struct SceneSource {
+  std::string header;
+  std::string struct_name;
+};
+SceneSource builtin_scene_source(const std::string& name);
+
 // The complete source text. `scene_header` defines struct `scene_struct` in namespace cs.
 std::string kernel_source(const std::string& scene_header, const std::string& scene_struct,
                           const KernelChoice& choice);

@@ -83,11 +83,18 @@ struct SyncMeasure {
   std::optional<std::array<double, 2>> omega;
 };
 
+// The finite-time largest Lyapunov exponent (engine/measures/tangent_lyapunov.hpp): the
+// tangent vector starts with equal components in `vars` (q.., p.., and z where z feeds back).
+struct LyapunovMeasure {
+  std::vector<std::string> vars;
+};
+
 struct Measures {
   std::optional<FinalStateMeasure> final_state;
   std::optional<TrajectoryMeasure> trajectory;
   std::optional<BasinMeasure> basin;
   std::optional<SyncMeasure> sync;
+  std::optional<LyapunovMeasure> lyapunov;
 };
 
 struct CustomScene;  // formula/custom_scene.hpp

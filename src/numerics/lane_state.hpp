@@ -4,6 +4,7 @@
 #pragma once
 
 #include "numerics/lane_math.hpp"
+#include "numerics/lane_math_dual.hpp"  // the same step on dual numbers
 #include "physics/partials.hpp"
 
 namespace cs {
@@ -19,9 +20,9 @@ struct LaneState {
   // leap-frog with a state-dependent K_z multiplies its λ factors a and b up here (λ' = λ·a/b)
   // instead of taking two logs, or dividing, every step; 1, 1 and 0 in every other case.
   // ln λ: log_lambda.
-  T lambda_numerator = T(1);
-  T lambda_denominator = T(1);
-  T lambda_folds = T(0);
+  T lambda_numerator = T{} + 1.0;  // T{} + 1.0 also for a dual: value 1, derivative 0
+  T lambda_denominator = T{} + 1.0;
+  T lambda_folds = T{};
   T kq[Dof];  // K_q at the current state, reused by the next step where K_q ignores p
   T broken;   // > 0 once a λ factor 1 ± (h/2)K_z reached ≤ 0 (state-dependent K_z only)
   T t;        // the time of this state, t_start + n·h, set by the kernel before each step;
@@ -82,6 +83,8 @@ inline T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
 struct Carry {
   bool z;
   bool mu;
+  bool tangent = false;  // the lyapunov measure's tangent vector (engine/measures/): kernels
+                         // built at run time only, so the built-in dispatch never has it
 };
 
 }  // namespace cs

@@ -218,6 +218,9 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   number["uncertainty_exponent"] = s.uncertainty_exponent;
   number["boundary_dimension"] = s.boundary_dimension;
   number["basin_tolerance"] = plan.attractors.tolerance;
+  number["wada_touching_fraction"] = s.wada.touching_fraction();
+  number["wada_merging_fraction"] = s.wada.covered_fraction(kWadaVerdictRadius);
+  layout.text_attributes["wada"] = s.wada.verdict();
   layout.text_attributes["energy_trap"] = basins.energy_trap;
   if (!basins.undecided.empty()) layout.text_attributes["basin_undecided"] = basins.undecided;
   if (!basins.labels.description.empty())
@@ -265,6 +268,11 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
                 [](const BasinStatistics& b) { return b.boundary_basin_entropy; });
       per_value("uncertainty_exponent", "uncertainty exponent of the map at this " + axis,
                 [](const BasinStatistics& b) { return b.uncertainty_exponent; });
+      per_value("wada_merging_fraction",
+                fmt::format("fraction of the boundary cells at this {} within {} cells of every "
+                            "merged basin's boundary (Wada test)",
+                            axis, kWadaVerdictRadius),
+                [](const BasinStatistics& b) { return b.wada.covered_fraction(kWadaVerdictRadius); });
     }
   }
 }
@@ -303,6 +311,7 @@ std::string describe(const BasinSummary& basins) {
                         s.boundary_basin_entropy > std::numbers::ln2 ? "fractal boundary"
                                                                      : "not shown fractal",
                         s.uncertainty_exponent, s.boundary_dimension);
+  if (s.wada.applies()) text += "; Wada test: " + s.wada.verdict();
   return text;
 }
 

@@ -287,10 +287,9 @@ void Journal::save(const BlockResults& block) const {
 bool Journal::load(BlockResults& block) const {
   std::string bytes;
   if (!dir().read_file(block_name(block.range.begin), bytes)) return false;
-  std::size_t expected = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) +
-                         block.columns.size() * sizeof(std::int64_t) + sizeof(std::uint64_t);
-  for (const auto& col : block.columns) expected += col.size() * sizeof(double);
-  if (bytes.size() != expected || std::memcmp(bytes.data(), kBlockMagic, sizeof kBlockMagic) != 0)
+  const std::size_t fixed = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) +
+                            block.columns.size() * sizeof(std::int64_t) + sizeof(std::uint64_t);
+  if (bytes.size() < fixed || std::memcmp(bytes.data(), kBlockMagic, sizeof kBlockMagic) != 0)
     return false;
   std::uint64_t sum;
   std::memcpy(&sum, bytes.data() + bytes.size() - sizeof sum, sizeof sum);
@@ -306,12 +305,21 @@ bool Journal::load(BlockResults& block) const {
   if (header[0] != block.range.begin || header[1] != block.range.end ||
       header[2] != static_cast<std::int64_t>(block.columns.size()))
     return false;
-  for (const auto& col : block.columns) {
+  // Each column's length: the plan's, or any for a column that grows as its block runs.
+  std::size_t expected = fixed;
+  std::vector<std::size_t> lengths;
+  for (std::size_t k = 0; k < block.columns.size(); ++k) {
     std::int64_t n;
     std::memcpy(&n, p, sizeof n);
     p += sizeof n;
-    if (n != static_cast<std::int64_t>(col.size())) return false;
+    const bool grows = k < block.grows.size() && block.grows[k];
+    if (n < 0 || (!grows && n != static_cast<std::int64_t>(block.columns[k].size()))) return false;
+    if (static_cast<std::uint64_t>(n) > (bytes.size() - fixed) / sizeof(double)) return false;
+    lengths.push_back(static_cast<std::size_t>(n));
+    expected += lengths.back() * sizeof(double);
   }
+  if (bytes.size() != expected) return false;
+  for (std::size_t k = 0; k < block.columns.size(); ++k) block.columns[k].resize(lengths[k]);
   for (auto& col : block.columns) {
     std::memcpy(col.data(), p, col.size() * sizeof(double));
     p += col.size() * sizeof(double);

@@ -47,12 +47,20 @@ void ProgressReporter::add(std::int64_t points, bool computed) {
   if (computed) computed_ += points;
 }
 
-void ProgressReporter::report() {
+double ProgressReporter::fraction() const {
+  if (local_points_ == 0) return 1.0;
   // Points of finished blocks, plus the running blocks' lane-steps as a share of a point's.
   const double running = static_cast<double>(std::max<std::int64_t>(in_flight_steps_.load(), 0)) /
                          static_cast<double>(std::max<std::int64_t>(steps_, 1));
+  return std::min(1.0, (static_cast<double>(done_.load()) + running) /
+                           static_cast<double>(local_points_));
+}
+
+void ProgressReporter::report() {
+  const double running = static_cast<double>(std::max<std::int64_t>(in_flight_steps_.load(), 0)) /
+                         static_cast<double>(std::max<std::int64_t>(steps_, 1));
   const double local = static_cast<double>(local_points_);
-  const double fraction = std::min(1.0, (static_cast<double>(done_.load()) + running) / local);
+  const double fraction = this->fraction();
   const double computed_fraction =
       std::min(1.0, (static_cast<double>(computed_.load()) + running) / local);
   const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();

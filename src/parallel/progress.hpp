@@ -29,6 +29,9 @@ class ProgressReporter {
   // Where running blocks count their lane-steps (BlockResults::in_flight_steps).
   std::atomic<std::int64_t>* in_flight_steps() { return &in_flight_steps_; }
 
+  // This rank's share done, in [0, 1]: finished blocks plus the running blocks' lane-steps.
+  double fraction() const;
+
  private:
   void report();
   using Clock = std::chrono::steady_clock;
@@ -42,6 +45,31 @@ class ProgressReporter {
   std::condition_variable wake_;
   bool stop_ = false;
   std::thread thread_;
+};
+
+// A run watched from another thread (run_entry.cpp: the Python module's calling thread, which
+// shows a bar and checks for Ctrl-C while the sweep computes). The sweep attaches its reporter
+// while blocks run and starts no block once a stop is requested.
+class RunControl {
+ public:
+  void request_stop() { stop_ = true; }
+  bool stop_requested() const { return stop_.load(); }
+  double fraction() const {
+    const std::lock_guard lock(mutex_);
+    return reporter_ ? reporter_->fraction() : finished_;
+  }
+  // For the lifetime of the sweep's loop; detaching keeps the last fraction.
+  void attach(const ProgressReporter* reporter) {
+    const std::lock_guard lock(mutex_);
+    if (reporter_ != nullptr && reporter == nullptr) finished_ = reporter_->fraction();
+    reporter_ = reporter;
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  mutable std::mutex mutex_;
+  const ProgressReporter* reporter_ = nullptr;
+  double finished_ = 0.0;
 };
 
 }  // namespace cs

@@ -27,8 +27,21 @@ std::string hex(const unsigned char* bytes, std::size_t n) {
   return out;
 }
 
-// The NT_GNU_BUILD_ID note of the main program (the first object dl_iterate_phdr reports).
+// The object holding this very code: the contactsweep program, or the Python module
+// (python/module.cpp) when the engine runs inside Python, whose main program is the interpreter.
+bool holds_this_code(const dl_phdr_info* info) {
+  const auto here = reinterpret_cast<ElfW(Addr)>(&fnv1a);
+  for (int i = 0; i < info->dlpi_phnum; ++i) {
+    const ElfW(Phdr)& segment = info->dlpi_phdr[i];
+    const ElfW(Addr) start = info->dlpi_addr + segment.p_vaddr;
+    if (segment.p_type == PT_LOAD && here >= start && here < start + segment.p_memsz) return true;
+  }
+  return false;
+}
+
+// The NT_GNU_BUILD_ID note of the object holding this code.
 int find_build_id(dl_phdr_info* info, std::size_t, void* out) {
+  if (!holds_this_code(info)) return 0;  // go on to the next object
   for (int i = 0; i < info->dlpi_phnum; ++i) {
     const ElfW(Phdr)& segment = info->dlpi_phdr[i];
     if (segment.p_type != PT_NOTE) continue;
@@ -47,7 +60,7 @@ int find_build_id(dl_phdr_info* info, std::size_t, void* out) {
       p = desc + ((note.n_descsz + 3) & ~3u);
     }
   }
-  return 1;  // only the main program counts
+  return 1;  // the object holding this code has no build-id
 }
 
 std::string compute_build_identity() {

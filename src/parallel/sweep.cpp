@@ -172,7 +172,8 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
   });
 }
 
-// Rank 0: the output is in place, so the run has succeeded whatever happens here.
+// Rank 0: the output is in place (or the run was stopped and its journal is of no use), so
+// whatever happens here changes nothing of the outcome.
 void remove_finished_journal(Journal& journal) {
   try {
     journal.remove();
@@ -199,20 +200,40 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
 }
 
-// A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
-// is written: a failed build leaves no journal and no file.
+// A custom scene's kernel, or a built-in scene's with the lyapunov tangent, compiled once per
+// node and cached (kernel_build/), before anything is written: a failed build leaves no journal
+// and no file.
 KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
-  const CustomScene& scene = *plan.spec.custom;
+  const SceneSource scene = plan.spec.custom
+                                ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
+                                : builtin_scene_source(plan.scene.name);
   const std::string source =
       kernel_source(scene.header, scene.struct_name,
                     {plan.spec.method, plan.carry, plan.grid.uniform_parameters()});
   BuiltKernel built;
   KernelFn kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
+    log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
+        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with lyapunov", built.seconds,
         built.library);
   return kernel;
 }
+
+// A RunControl sees the reporter of the loop, and only while it lives.
+class Attached {
+ public:
+  Attached(RunControl* control, const ProgressReporter& progress) : control_(control) {
+    if (control_ != nullptr) control_->attach(&progress);
+  }
+  ~Attached() {
+    if (control_ != nullptr) control_->attach(nullptr);
+  }
+  Attached(const Attached&) = delete;
+  Attached& operator=(const Attached&) = delete;
+
+ private:
+  RunControl* control_;
+};
 
 }  // namespace
 
@@ -224,7 +245,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
-  if (spec.custom) {
+  if (spec.custom || plan.carry.tangent) {  // the built-in dispatch has no tangent kernels
     const auto kernel = custom_kernel(plan, options, comm);
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }
@@ -256,7 +277,11 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     });
 
   ProgressReporter progress(local_points, plan.grid.size(), spec.steps,
-                            !options.quiet && c.rank == 0);
+                            !options.quiet && c.rank == 0 && options.control == nullptr);
+  Attached attached(options.control, progress);
+  const auto stop_requested = [control = options.control] {
+    return control != nullptr && control->stop_requested();
+  };
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
   std::atomic<std::int64_t> computed{0};
   std::exception_ptr failure;
@@ -267,7 +292,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       [&] { watch.report_failure(); });  // no thread of any rank starts another block
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    if (!watch.stop()) {
+    if (!watch.stop() && !stop_requested()) {
       try {
         const std::int64_t n = blocks[i].range.end - blocks[i].range.begin;
         results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
@@ -295,6 +320,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   watch.finish();
   throw_if_any_failed(comm, failure);
+  // Serial only (RunControl): no other rank to agree with. The caller (the Python module) has
+  // no --resume, and a journal resumes only under the build that wrote it: nobody could use
+  // it, and it would refuse the next run to this output. Removed.
+  if (stop_requested()) {
+    remove_finished_journal(journal);  // a failure to remove it is a warning, as there
+    throw Interrupted("stopped on request; nothing written");
+  }
   check_every_point_computed(results, plan.grid.size(), c);
   std::optional<BasinSummary> basins;
   if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);

@@ -7,11 +7,14 @@
 
 #include <mpi.h>
 
+#include <stdexcept>
 #include <string>
 
 #include "model/run_spec.hpp"
 
 namespace cs {
+
+class RunControl;  // parallel/progress.hpp
 
 struct SweepOptions {
   std::string output;   // final path of the HDF5 file
@@ -19,6 +22,14 @@ struct SweepOptions {
   bool resume = false;  // continue this very run if its output exists
   bool quiet = false;   // no progress reports
   std::string command_line;  // for the `history` attribute
+  RunControl* control = nullptr;  // watched from another thread: progress, stop (one process)
+};
+
+// The run was stopped through its RunControl: no block started after the request, no output
+// written, the journal removed (sweep.cpp).
+class Interrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct SweepSummary {

@@ -31,6 +31,15 @@ template <class T> requires(!std::is_same_v<T, double>)
 constexpr Dual<T> operator+(Dual<T> a, double c) { return {a.v + c, a.d}; }
 template <class T> requires(!std::is_same_v<T, double>)
 constexpr Dual<T> operator-(Dual<T> a, double c) { return {a.v - c, a.d}; }
+// The same on the other side, for nested duals (Dual<Dual<double>>: a tangent step evaluating
+// K's partials, engine/measures/tangent_lyapunov.hpp), where `1.0 - x` and `x * 2.0` meet a
+// Dual whose parts are duals themselves.
+template <class T> requires(!std::is_same_v<T, double>)
+constexpr Dual<T> operator*(Dual<T> a, double c) { return {a.v * c, a.d * c}; }
+template <class T> requires(!std::is_same_v<T, double>)
+constexpr Dual<T> operator+(double c, Dual<T> a) { return {c + a.v, a.d}; }
+template <class T> requires(!std::is_same_v<T, double>)
+constexpr Dual<T> operator-(double c, Dual<T> a) { return {c - a.v, -a.d}; }
 
 // x², with the derivative 2x·x' written so that a seed of 1 costs one addition.
 template <class T> constexpr T square(T x) { return x * x; }

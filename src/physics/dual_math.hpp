@@ -7,6 +7,7 @@
 #pragma once
 
 #include "numerics/lane_math.hpp"
+#include "numerics/lane_math_dual.hpp"
 #include "physics/dual.hpp"
 
 namespace cs {
@@ -120,3 +121,5 @@ namespace dual_math_detail {
 }
 
 }  // namespace cs
+
+#include "physics/dual_math_nested.hpp"  // the same on Dual<Dual<double>>

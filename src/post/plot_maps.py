@@ -6,6 +6,7 @@
 basins_double_well.h5 (grid q_0 x p_0, measure `basin`) -> basins_double_well.png, and prints the
 basin fractions, the basin entropy S_b and the boundary basin entropy S_bb (Daza et al. 2016).
 sync_g_gamma.h5 (grid g x gamma, measure `sync`) -> sync_g_gamma.png.
+lyapunov_duffing.h5 (grid F x Omega, measure `lyapunov`) -> lyapunov_duffing.png.
 Files that do not exist are skipped; if neither exists there is nothing to do (exit 0).
 """
 import argparse
@@ -118,6 +119,20 @@ def sync_map(ds, out):
     save(fig, out / "sync_g_gamma.png")
 
 
+def lyapunov_map(ds, out):
+    # Diverging colours centred on 0: chaos (> 0) red, periodic motion (< 0) blue.
+    da = ds["lyapunov"].squeeze()
+    fig, ax = plt.subplots(figsize=(7, 5.5), layout="constrained")
+    limit = float(np.nanmax(np.abs(da.values)))
+    da.plot.pcolormesh(ax=ax, x=da.dims[0], y=da.dims[1], cmap="RdBu_r", vmin=-limit, vmax=limit,
+                       cbar_kwargs={"label": "largest Lyapunov exponent [1/time]"})
+    ax.set_title(ds.attrs.get("title", "Lyapunov map"), fontsize="medium")
+    ax.set_xlabel(da.dims[0])  # the coordinates' long_name of a K parameter says no more
+    ax.set_ylabel(da.dims[1])
+    print(f"lyapunov map: {float((da.values > 0.01).mean()):.1%} of the cells above 0.01")
+    save(fig, out / "lyapunov_duffing.png")
+
+
 def label_of(coord):
     name = coord.attrs.get("long_name", coord.name)
     return f"{name} [{coord.attrs['units']}]" if "units" in coord.attrs else name
@@ -140,7 +155,8 @@ def main():
     args.outdir.mkdir(parents=True, exist_ok=True)
 
     for name, plot in (("basins_double_well", lambda ds: basin_map(ds, args.outdir, args.eps)),
-                       ("sync_g_gamma", lambda ds: sync_map(ds, args.outdir))):
+                       ("sync_g_gamma", lambda ds: sync_map(ds, args.outdir)),
+                       ("lyapunov_duffing", lambda ds: lyapunov_map(ds, args.outdir))):
         path = args.indir / f"{name}.h5"
         if not path.exists():
             print(f"plot_maps: no {path}, skipped")

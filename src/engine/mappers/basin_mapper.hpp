@@ -14,10 +14,14 @@
 //        finisher at t_end;
 //   void arm(int slot, const LaneState<D>& x, const Params& c, const Settlement& s)
 //        after the look at load: the per-lane state its screen reads (main slots only);
-//   template <class Tile> void screen(const Tile& t, LookInt* attention)
-//        vectorised over the main tile after each chunk: ORs into attention[i] the lanes it must
-//        look at. Its per-lane state is kept here, structure of arrays, one entry per main slot,
-//        so that the loop vectorises like the step (branch-free, no lane reads another);
+//   template <class Tile> LookInt flag(const Tile& t, int i) const, or
+//   template <class Tile> void screen(const Tile& t, LookInt* attention), or neither
+//        vectorised over the main tile after each chunk: whether the lane in slot i needs a look.
+//        A cheap predicate is a flag, evaluated inside the runner's own screen loop (the tile is
+//        read once: the energy trap); a screen that updates state of its own makes a pass of
+//        its own and ORs into attention[i] (the anchor test). Per-lane state is kept here,
+//        structure of arrays, one entry per main slot, so that the loop vectorises like the
+//        step (branch-free, no lane reads another). mapper_set.hpp says which does which;
 //   void disarm(int slot)                 the lane settled (by any mapper), or its settlement was
 //                                         refused: stop screening it;
 //   bool refuses(const Settlement& s, const Params& c) const
@@ -52,7 +56,7 @@ using LookInt = std::int32_t;
 using LookInt = std::int64_t;
 #endif
 
-// Where a lane settled: what every mapper writes (RunPlan's internal column basin_point).
+// Where a lane settled: what every mapper writes (kept per block: settlement_records.hpp).
 template <int N>
 struct Settlement {
   bool settled = false;

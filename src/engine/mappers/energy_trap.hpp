@@ -111,24 +111,23 @@ class EnergyTrap {
     if (slot < W) well_energy_[slot] = -std::numeric_limits<double>::infinity();
   }
 
-  // E = K(q, p, 0) below the lane's trap level, inside the box; branch-free.
+  // E = K(q, p, 0) below the lane's trap level, inside the box; branch-free, one lane of the
+  // runner's own screen loop (a lane flag: basin_mapper.hpp), so that the tile is read once.
   template <class Tile>
-  void screen(const Tile& t, LookInt* attention) {
-    if constexpr (has_energy_trap<S>()) {
-#pragma GCC ivdep
-      for (int i = 0; i < W; ++i) {
-        double q[D], p[D];
-        LookInt inside = 1;
-        for (int d = 0; d < D; ++d) {
-          q[d] = t.q[d][i], p[d] = t.p[d][i];
-          if constexpr (Uniform) inside &= (q[d] >= uniform_box_.lo[d]) & (q[d] <= uniform_box_.hi[d]);
-          else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
-        }
-        double energy;
-        if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
-        else energy = K<S>(q, p, 0.0, t.params(i), 0.0);
-        attention[i] |= inside & (energy < well_energy_[i]);
+  [[gnu::always_inline]] LookInt flag(const Tile& t, int i) const {
+    if constexpr (!has_energy_trap<S>()) return 0;
+    else {
+      double q[D], p[D];
+      LookInt inside = 1;
+      for (int d = 0; d < D; ++d) {
+        q[d] = t.q[d][i], p[d] = t.p[d][i];
+        if constexpr (Uniform) inside &= (q[d] >= uniform_box_.lo[d]) & (q[d] <= uniform_box_.hi[d]);
+        else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
       }
+      double energy;
+      if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
+      else energy = K<S>(q, p, 0.0, t.params(i), 0.0);
+      return inside & (energy < well_energy_[i]);
     }
   }
 

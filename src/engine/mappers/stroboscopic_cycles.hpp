@@ -49,9 +49,6 @@ class StroboscopicCycles {
   template <class Lane, class Params>
   void arm(int, const Lane&, const Params&, const Settlement<N>&) {}
   void disarm(int) {}
-  template <class Tile>
-  void screen(const Tile&, LookInt*) {}
-
   template <class Params>
   bool refuses(const Settlement<N>&, const Params&) const { return false; }
   void move(int from, int to) { trackers_[to] = trackers_[from]; }

@@ -1,0 +1,22 @@
+#!/usr/bin/python3
+"""The basins of the damped double well from Python, drawn into basins.png.
+From a checkout: PYTHONPATH=build/python examples/quickstart.py  (docs/python.md)"""
+import os
+
+import matplotlib
+
+if not os.environ.get("DISPLAY"):
+    matplotlib.use("Agg")  # no display: draw into the file only
+import matplotlib.pyplot as plt
+
+import contactsweep
+
+spec = {"scene": {"name": "double_well", "gamma": 0.1},
+        "integrator": {"h": 0.01, "t_end": 100.0},
+        "grid": {"q_0": {"from": -3.0, "to": 3.0, "n": 256},
+                 "p_0": {"from": -3.0, "to": 3.0, "n": 256}},
+        "measures": {"basin": {}}}
+ds = contactsweep.run(spec)
+ds.basin.plot(x="q_0", y="p_0", cmap="coolwarm")
+plt.title("damped double well: which well each (q0, p0) ends in")
+plt.savefig("basins.png", dpi=120)

@@ -1,0 +1,136 @@
+#include "engine/wada_test.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace cs {
+namespace {
+
+using Mask = std::uint64_t;  // one bit per basin of the plane
+
+// Chessboard distance to the nearest cell of `seed` (the two passes of Rosenfeld & Pfaltz's
+// distance transform, exact for this metric), capped at kWadaMaxRadius + 1.
+void chessboard_distance(const std::vector<char>& seed, std::int64_t rows, std::int64_t columns,
+                         std::vector<std::uint8_t>& d) {
+  constexpr std::uint8_t far = kWadaMaxRadius + 1;
+  const auto at = [&](std::int64_t r, std::int64_t c) { return static_cast<std::size_t>(r * columns + c); };
+  for (std::int64_t r = 0; r < rows; ++r)
+    for (std::int64_t c = 0; c < columns; ++c) {
+      std::uint8_t best = seed[at(r, c)] ? 0 : far;
+      for (auto [dr, dc] : {std::pair{-1, -1}, {-1, 0}, {-1, 1}, {0, -1}})
+        if (r + dr >= 0 && c + dc >= 0 && c + dc < columns)
+          best = std::min<std::uint8_t>(best, std::min<std::uint8_t>(far, d[at(r + dr, c + dc)] + 1));
+      d[at(r, c)] = best;
+    }
+  for (std::int64_t r = rows - 1; r >= 0; --r)
+    for (std::int64_t c = columns - 1; c >= 0; --c) {
+      std::uint8_t best = d[at(r, c)];
+      for (auto [dr, dc] : {std::pair{1, 1}, {1, 0}, {1, -1}, {0, 1}})
+        if (r + dr < rows && c + dc >= 0 && c + dc < columns)
+          best = std::min<std::uint8_t>(best, std::min<std::uint8_t>(far, d[at(r + dr, c + dc)] + 1));
+      d[at(r, c)] = best;
+    }
+}
+
+void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t columns, WadaTest& out) {
+  const auto cells = static_cast<std::size_t>(rows * columns);
+  // The plane's basins, numbered in order of their labels (a map has few: a linear search per
+  // cell, and the one met last first).
+  std::vector<std::int32_t> basins;
+  std::int32_t last = 0;
+  for (std::size_t i = 0; i < cells; ++i) {
+    if (labels[i] == 0 || labels[i] == last) continue;
+    last = labels[i];
+    if (std::find(basins.begin(), basins.end(), last) == basins.end()) basins.push_back(last);
+    if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) break;
+  }
+  std::sort(basins.begin(), basins.end());
+  if (basins.size() < 3) return;
+  if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) {
+    ++out.planes_too_many;
+    return;
+  }
+  ++out.planes_tested;
+  const auto bit = [&](std::int32_t label) {
+    return Mask{1} << (std::lower_bound(basins.begin(), basins.end(), label) - basins.begin());
+  };
+  const Mask all = basins.size() == 64 ? ~Mask{0} : (Mask{1} << basins.size()) - 1;
+  // Each decided cell's own basin and the basins in its 3 × 3 neighbourhood.
+  std::vector<Mask> own(cells, 0), near(cells, 0);
+  for (std::int64_t r = 0; r < rows; ++r)
+    for (std::int64_t c = 0; c < columns; ++c) {
+      const auto i = static_cast<std::size_t>(r * columns + c);
+      if (labels[i] == 0) continue;
+      own[i] = bit(labels[i]);
+      for (std::int64_t rr = std::max<std::int64_t>(r - 1, 0); rr <= std::min(r + 1, rows - 1); ++rr)
+        for (std::int64_t cc = std::max<std::int64_t>(c - 1, 0); cc <= std::min(c + 1, columns - 1); ++cc) {
+          const std::int32_t l = labels[static_cast<std::size_t>(rr * columns + cc)];
+          if (l != 0) near[i] |= bit(l);
+        }
+    }
+  // How far each boundary cell is from the boundary of each merged map (basin j against the
+  // rest): the largest of those distances.
+  std::vector<std::uint8_t> farthest(cells, 0), d(cells);
+  std::vector<char> seed(cells);
+  for (std::size_t j = 0; j < basins.size(); ++j) {
+    const Mask b = Mask{1} << j;
+    for (std::size_t i = 0; i < cells; ++i)
+      seed[i] = own[i] != 0 && ((own[i] == b) ? (near[i] & ~b) != 0 : (near[i] & b) != 0);
+    chessboard_distance(seed, rows, columns, d);
+    for (std::size_t i = 0; i < cells; ++i) farthest[i] = std::max(farthest[i], d[i]);
+  }
+  out.covered.resize(kWadaMaxRadius, 0);
+  for (std::size_t i = 0; i < cells; ++i) {
+    if (std::popcount(near[i]) < 2) continue;  // not on a boundary
+    ++out.boundary_cells;
+    out.touching_all += near[i] == all;
+    for (int r = farthest[i]; r >= 1 && r <= kWadaMaxRadius; ++r) ++out.covered[static_cast<std::size_t>(r - 1)];
+    if (farthest[i] == 0)
+      for (auto& n : out.covered) ++n;
+  }
+}
+
+}  // namespace
+
+double WadaTest::touching_fraction() const {
+  return applies() ? static_cast<double>(touching_all) / static_cast<double>(boundary_cells)
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
+double WadaTest::covered_fraction(int radius) const {
+  return applies() ? static_cast<double>(covered[static_cast<std::size_t>(radius - 1)]) /
+                         static_cast<double>(boundary_cells)
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool WadaTest::wada() const {
+  return applies() && covered_fraction(kWadaVerdictRadius) >= kWadaVerdictFraction;
+}
+
+std::string WadaTest::verdict() const {
+  if (!applies()) {
+    if (planes_too_many > 0)
+      return fmt::format("not tested: more than {} basins in a plane", kWadaMaxBasins);
+    return "not tested: it needs a 2-D plane of initial conditions with three basins or more";
+  }
+  return fmt::format(
+      "{}: {:.4f} of the {} boundary cells lie within {} cells of every merged basin's "
+      "boundary (merging method; Wada from {:.2f}); {:.4f} touch every basin in their 3 x 3 "
+      "neighbourhood",
+      wada() ? "Wada" : "not Wada", covered_fraction(kWadaVerdictRadius), boundary_cells,
+      kWadaVerdictRadius, kWadaVerdictFraction, touching_fraction());
+}
+
+WadaTest wada_test(const std::vector<std::int32_t>& labels, std::int64_t planes, std::int64_t rows,
+                   std::int64_t columns) {
+  WadaTest out;
+  for (std::int64_t p = 0; p < planes; ++p)
+    test_plane(labels.data() + p * rows * columns, rows, columns, out);
+  return out;
+}
+
+}  // namespace cs
