@@ -26,8 +26,10 @@ void SpecReader::read_measures() {
   read_trajectory(t);
   read_basin(t);
   read_sync(t);
+  read_observe(t);
+  read_stop(t);
   const Measures& m = spec_.measures;
-  if (!m.final_state && !m.trajectory && !m.basin && !m.sync)
+  if (!m.final_state && !m.trajectory && !m.basin && !m.sync && !m.observe && !m.stop)
     fail(node, fmt::format("[measures] requests nothing; scene '{}' supports: {}", scene_->name,
                            fmt::join(scene_->measures, ", ")));
 }

@@ -27,7 +27,8 @@ inline constexpr double kMaxSteps = 9007199254740992.0;
 // t_end is a whole number of steps when steps * h is within this of t_end, relative to t_end.
 inline constexpr double kStepTolerance = 1e-9;
 
-inline constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync"};
+inline constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync",
+                                                     "observe", "observe_window", "stop"};
 
 template <class Info>
 Names names_of(const std::vector<Info>& infos) {
@@ -130,6 +131,9 @@ class SpecReader {
   void read_sync(const toml::table& measures);
   // Which two degrees of freedom, and the frequencies that scale their momenta.
   void read_sync_pair(const toml::table& t, SyncMeasure& sync);
+  // observe, observe_window and stop: measures as formulas (spec_observe.cpp).
+  void read_observe(const toml::table& measures);
+  void read_stop(const toml::table& measures);
 
   const toml::table& doc_;
   std::string source_name_;

@@ -29,17 +29,18 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 
 #include "engine/block_runner.hpp"
 #include "{header}"
-
+{measures}
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}}}, {uniform}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}}}, {uniform}{formulas}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
       fmt::arg("scene", scene_header), fmt::arg("header", m.header), fmt::arg("entry", kKernelEntry),
       fmt::arg("scene_struct", scene_struct), fmt::arg("method", m.type),
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
-      fmt::arg("uniform", choice.uniform_parameters));
+      fmt::arg("uniform", choice.uniform_parameters), fmt::arg("measures", choice.measures),
+      fmt::arg("formulas", choice.measures.empty() ? "" : std::string(", cs::") + kMeasuresStruct));
 }
 
 std::string with_kernel_key(const std::string& source, const std::string& key) {

@@ -18,7 +18,12 @@ struct KernelChoice {
   std::string method;  // a name from method_catalog()
   Carry carry;
   bool uniform_parameters;
+  // The run's observe and stop as a struct kMeasuresStruct (formula/measure_formulas.hpp,
+  // measures_source); empty: none.
+  std::string measures = {};
 };
+
+inline constexpr const char* kMeasuresStruct = "RunMeasureFormulas";
 
 // The complete source text. `scene_header` defines struct `scene_struct` in namespace cs.
 std::string kernel_source(const std::string& scene_header, const std::string& scene_struct,

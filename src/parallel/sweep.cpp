@@ -23,6 +23,7 @@
 #include "io/memory_budget.hpp"
 #include "kernel_build/kernel_cache.hpp"
 #include "kernel_build/kernel_source.hpp"
+#include "formula/measure_formulas.hpp"
 #include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
 #include "mpi/failure_watch.hpp"
@@ -201,15 +202,21 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
 
 // A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
 // is written: a failed build leaves no journal and no file.
+// A built-in scene goes through it too when the run has measures as formulas (observe, stop),
+// with the header the build generated for it: the built-in kernels are compiled without them.
 KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
-  const CustomScene& scene = *plan.spec.custom;
-  const std::string source =
-      kernel_source(scene.header, scene.struct_name,
-                    {plan.spec.method, plan.carry, plan.grid.uniform_parameters()});
+  const bool custom = plan.spec.custom != nullptr;
+  const std::string& header = custom ? plan.spec.custom->header : plan.scene.kernel_header;
+  const std::string& struct_name = custom ? plan.spec.custom->struct_name : plan.scene.kernel_struct;
+  KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
+  if (has_measure_formulas(plan.spec.measures))
+    choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  const std::string source = kernel_source(header, struct_name, choice);
   BuiltKernel built;
   KernelFn kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
+    log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
+        custom ? "scene.K" : "scene " + plan.scene.name + " with its measures", built.seconds,
         built.library);
   return kernel;
 }
@@ -224,7 +231,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
-  if (spec.custom) {
+  if (spec.custom || has_measure_formulas(spec.measures)) {
     const auto kernel = custom_kernel(plan, options, comm);
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }

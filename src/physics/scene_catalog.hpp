@@ -46,6 +46,10 @@ struct SceneInfo {
   double default_h;
   double default_t_end;
   LabelRule label_rule{};    // how its basins are labelled
+  // A built-in scene's generated header (physics/<name>.hpp) and its struct: the run-time
+  // kernel of a run with measures as formulas is compiled with it (parallel/sweep.cpp).
+  std::string kernel_struct = {};
+  std::string kernel_header = {};
 };
 
 const std::vector<SceneInfo>& scene_catalog();
