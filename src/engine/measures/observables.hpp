@@ -22,6 +22,7 @@
 #include <cstring>
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
@@ -237,9 +238,11 @@ class FormulaTracker {
       const ObservableView<D> v = view(x, clock_.at(n));
       if (o_.window_every_step && n >= o_.window_first && n <= o_.window_last)
         accumulate(slot, v, c);
-      if (M::stops(v, c)) break;
+      if (M::stops(v, c)) return n;
     }
-    return n;
+    // The tile's flag came from these very steps (the same function on the same bits): not
+    // finding it again is a bug, never a result.
+    throw std::logic_error("FormulaTracker::rerun: the stop flagged in the tile did not recur");
   }
 
   // The exit channel of a lane stopped in state x (1, 2, …), 0 when the formula gives none.
