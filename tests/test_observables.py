@@ -196,6 +196,19 @@ if traj is not None and windowed is not None:
         ok = ok and same(windowed["final_E"][k], E[-1])
     check("window statistics of a stopped lane = numpy on its steps up to the stop", ok)
 
+# The exit channel as a formula (rounded to the nearest whole number), and exits in a basin map.
+labelled, _ = run(STOP.format(gamma=0.1, method="rk4", h=0.01, extra="basin = { exact_trap = false }").replace(
+    'stop = { when = "q < 0" }', 'stop = { when = "q < 0", label = "1 + 10*gamma + 0.2" }'),
+    "stop_label")
+if labelled is not None:
+    check("label formula: stop_exit = round(1 + 10*gamma + 0.2)",
+          list(labelled["stop_exit"][...]) == [2, 6, 11], f"{labelled['stop_exit'][...]}")
+    check("each channel an exit of the basin map, numbered in the order of the channels",
+          list(labelled["attractor_period"][...]) == [-1, -1, -1] and
+          list(labelled["attractor_q"][...]) == [2.0, 6.0, 11.0] and
+          list(labelled["basin"][...]) == [1, 2, 3] and
+          np.allclose(labelled["settle_time"][...], labelled["stop_time"][...]))
+
 never, _ = run(STOP.format(gamma=0.1, method="rk4", h=0.01, extra="").replace(
     '"q < 0"', '"q > 5 or (p > 5 and q < -5)"'), "stop_never")
 if never is not None:

@@ -384,7 +384,8 @@ class BlockRunner {
   }
 
   // A healthy lane that stopped at step b.n in state x: its sample there, if one is due, and
-  // its exit as the basin's outcome.
+  // its exit as the basin's outcome — unless it settled first (with basin.early_stop = false it
+  // ran on after settling): a lane's outcome is the first decided.
   void finish_stopped(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
     if (plan_.samples > 0) {
       const auto every = plan_.spec.measures.trajectory->every;
@@ -395,8 +396,7 @@ class BlockRunner {
       }
     }
     const int exit = formulas_.exit_of(x, clock_.at(b.n), c);
-    if (plan_.map.basin >= 0) {
-      b.basin = {};
+    if (plan_.map.basin >= 0 && !b.basin.settled) {
       if (exit > 0) {
         b.basin.settled = true;
         b.basin.period = kExitPeriod;
