@@ -47,6 +47,8 @@ def shrink_overrides(path):
         out.append(f"integrator.h={picked[0]!r}")  # checked against t_end too
     if "sync" not in spec.get("measures", {}) or t != t_end:
         out.append(f"integrator.t_end={t!r}")
+    if "observe_window" in spec.get("measures", {}) and t != t_end:  # kept inside the shorter run
+        out.append(f"measures.observe_window={{ from = {t_start!r}, to = {t!r} }}")
     return out
 
 

@@ -43,4 +43,6 @@ for name in "${basins[@]}"; do run "$name"; done  # basins of any system (K in t
 files=()
 for name in "${basins[@]}"; do files+=("out/$name.h5"); done
 /usr/bin/python3 src/post/plot_basins.py out/figures "${files[@]}"
+run escape_henon_heiles  # exit basins and escape times (measures.stop, docs/observables.md)
+/usr/bin/python3 src/post/plot_escape.py out/figures out/escape_henon_heiles.h5
 echo "done: results in out/, figures in out/figures/"

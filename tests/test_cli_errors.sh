@@ -213,6 +213,34 @@ expect "K: --set of a symbol not in K" 2 "--set scene.gamma=0.2: scene.gamma is 
   --set scene.gamma=0.2
 expect "K: unknown symbol under mpirun" 2 "symbol 'w' is neither a variable" "$d" -- \
   $mpiexec -np 2 "$bin" run "$work/k_unknown_symbol,_named_with_the_valid_names.toml" -o k.h5
+# Measures as formulas (observe, observe_window, stop): K's rules, and nothing built either.
+k_expect "observe: unknown symbol" \
+  "measures.observe.E: 'p^2/2 + w*q^2/2' reads 'w', which is not a symbol of scene" \
+  'K = "p^2/2 + q^2/2"' '' '' 'observe = { E = "p^2/2 + w*q^2/2" }'
+k_expect "observe: a name of a dataset the file has" "measures.observe.H: 'H' would name the datasets" \
+  'K = "p^2/2 + q^2/2"' '' '' 'observe = { H = "p^2/2" }'
+k_expect "observe: a state variable's name" "measures.observe.q: 'q' would name the datasets" \
+  'K = "p^2/2 + q^2/2"' '' '' 'observe = { q = "p" }'
+k_expect "observe: syntax error, with its column" "measures.observe.E: 'p^2 + * q' syntax error at column 7" \
+  'K = "p^2/2 + q^2/2"' '' '' 'observe = { E = "p^2 + * q" }'
+k_expect "observe_window outside the run" \
+  "measures.observe_window = { from = 0.5, to = 2 }: expected 0 <= from <= to <= t_end = 1" \
+  'K = "p^2/2 + q^2/2"' '' '' $'observe = { E = "p^2" }\nobserve_window = { from = 0.5, to = 2.0 }'
+k_expect "observe_window holding no sample" "holds no sample" \
+  'K = "p^2/2 + q^2/2"' '' '' $'trajectory = { every = 50 }\nobserve = { E = "p^2" }\nobserve_window = { from = 0.6, to = 0.9 }'
+k_expect "stop: not a comparison" "measures.stop.when: 'q^2 + p^2' at column 1 is not a comparison" \
+  'K = "p^2/2 + q^2/2"' '' '' 'stop = { when = "q^2 + p^2" }'
+k_expect "stop: equality" "measures.stop.when: '==' at column 3: a condition compares with <, <=, > or >=" \
+  'K = "p^2/2 + q^2/2"' '' '' 'stop = { when = "q == 1" }'
+k_expect "stop: dangling and" "measures.stop.when: 'and' / 'or' without a comparison" \
+  'K = "p^2/2 + q^2/2"' '' '' 'stop = { when = "q > 1 and" }'
+k_expect "stop: unknown symbol" "measures.stop.when: 'r' reads 'r', which is not a symbol" \
+  'K = "p^2/2 + q^2/2"' '' '' 'stop = { when = "q > r" }'
+expect "built-in scene: observe of a parameter it lacks" 2 \
+  "measures.observe.E: 'omega*q' reads 'omega', which is not a symbol of scene 'double_well'" "$d" -- \
+  "$bin" run "$(spec_with observe_builtin 's/^final_state = true/final_state = true\nobserve = { E = "omega*q" }/')" -o obs.h5
+expect "built-in scene: stop under mpirun, unknown symbol" 2 "measures.stop.when" "$d" -- \
+  $mpiexec -np 2 "$bin" run "$(spec_with stop_builtin 's/^final_state = true/final_state = true\nstop = { when = "q1 > 0" }/')" -o obs.h5
 if [[ -z $(ls "$CONTACTSWEEP_CACHE" 2>/dev/null) ]]; then
   echo "ok    K: no refused spec built a kernel"
   passed=$((passed + 1))

@@ -878,6 +878,66 @@ const std::vector<BadSpec> kBadSpecs = {
 
 class BadSpecTest : public testing::TestWithParam<BadSpec> {};
 
+// ---- measures as formulas: observe, observe_window, stop (issue 24) --------------------------
+
+TEST(SpecParser, ObserveAndStopAreReadInTheirOrder) {
+  const RunSpec spec = parse(kCoupled + R"(
+[integrator]
+t_end = 50.0
+[measures]
+observe = { E = "p1^2/2 + p2^2/2", L = "q1*p2 - q2*p1", lam = "lambda*g" }
+observe_window = { from = 20.0, to = 50.0 }
+stop = { when = "(q1^2 + q2^2 > 4 or p1 > 3) and t >= 1", exits = ["q2 > 0", "q2 <= 0"] }
+)");
+  ASSERT_TRUE(spec.measures.observe.has_value());
+  const auto& f = spec.measures.observe->formulas;
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f[0].first, "E");
+  EXPECT_EQ(f[1].second, "q1*p2 - q2*p1");
+  EXPECT_EQ(f[2].first, "lam");
+  EXPECT_EQ((*spec.measures.observe->window)[0], 20.0);
+  EXPECT_EQ(spec.measures.stop->exits.size(), 2u);
+  EXPECT_TRUE(spec.measures.stop->label.empty());
+  // [measures] with only observe asks for nothing else
+  EXPECT_FALSE(spec.measures.final_state.has_value());
+}
+
+TEST(SpecParser, BadObserveAndStopAreNamed) {
+  const std::string base = kDoubleWell + "[integrator]\nt_end = 10.0\n[measures]\n";
+  expect_input_error(base + "observe = { E = \"p^2/2 + omega*q\" }",
+                     "measures.observe.E: 'p^2/2 + omega*q' reads 'omega', which is not a symbol "
+                     "of scene 'double_well'");
+  expect_input_error(base + "observe = { E = \"q1\" }", "reads 'q1'");
+  expect_input_error(base + "observe = { H = \"p^2\" }", "measures.observe.H: 'H' would name");
+  expect_input_error(base + "observe = { q = \"p^2\" }", "measures.observe.q: 'q' would name");
+  expect_input_error(base + "observe = { E = \"p^2 +\" }", "measures.observe.E: 'p^2 +' syntax error");
+  expect_input_error(base + "observe = { E = \"\" }", "measures.observe.E: an empty formula");
+  expect_input_error(base + "observe = { E = 3 }", "measures.observe.E");
+  expect_input_error(base + "observe = {}", "measures.observe");
+  expect_input_error(base + "observe = { E = \"p\" }\nobserve_window = { from = 5.0, to = 11.0 }",
+                     "measures.observe_window = { from = 5, to = 11 }: expected 0 <= from <= to "
+                     "<= t_end = 10");
+  expect_input_error(base + "observe = { E = \"p\" }\nobserve_window = { from = 5.0 }",
+                     "give both ends");
+  expect_input_error(base + "observe_window = { from = 1.0, to = 2.0 }\nfinal_state = true",
+                     "give measures.observe");
+  expect_input_error(base + "stop = { when = \"q^2 + p^2\" }", "is not a comparison");
+  expect_input_error(base + "stop = { when = \"q > 1 and\" }", "without a comparison");
+  expect_input_error(base + "stop = { when = \"q == 1\" }", "compares with <, <=, > or >=");
+  expect_input_error(base + "stop = { when = \"0 < q < 1\" }", "chains comparisons");
+  expect_input_error(base + "stop = { when = \"(q > 1\" }", "never closed");
+  expect_input_error(base + "stop = { when = \"q > 1 and not p > 0\" }", "'not'");
+  expect_input_error(base + "stop = { when = \"q > w\" }", "measures.stop.when: 'w' reads 'w', which is not a symbol");
+  expect_input_error(base + "stop = { when = \"q > 1 +\" }",
+                     "measures.stop.when: '1 +' syntax error at column 7");
+  expect_input_error(base + "stop = { label = \"1\" }", "give the condition");
+  expect_input_error(base + "stop = { when = \"q > 1\", label = \"1\", exits = [\"q > 0\"] }",
+                     "not both");
+  expect_input_error(base + "stop = { when = \"q > 1\", exits = [\"q\"] }",
+                     "measures.stop.exits[0]");
+  expect_input_error(base + "stop = { when = \"q > 1\", colour = 1 }", "measures.stop");
+}
+
 TEST_P(BadSpecTest, IsRefusedWithAMessageNamingTheProblem) {
   const BadSpec& bad = GetParam();
   const std::string message = message_of(bad.text, bad.overrides);

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "engine/attractor_search.hpp"
+#include "engine/measures/observe_plan.hpp"
 #include "engine/recurrence/default_range.hpp"
 
 namespace cs {
@@ -95,6 +96,9 @@ double match_threshold(const RunPlan& plan) {
 }
 
 double attractor_distance(const RunPlan& plan, const Attractor& a, const Attractor& b) {
+  // A stop's exits (observe_plan.hpp) are the same exit where their channel is, whatever the value.
+  if (a.period == kExitPeriod || b.period == kExitPeriod)
+    return a.period == b.period && a.point[0] == b.point[0] ? 0.0 : INFINITY;
   if (a.period == 0 && b.period == 0 && !a.cells.empty() && !b.cells.empty())
     return cell_set_distance(plan.recurrence, a.cells, b.cells);
   double d = 0.0;

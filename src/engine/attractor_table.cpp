@@ -28,6 +28,14 @@ double distance(const RunPlan& plan, const double* x, const double* y) {
 
 double link_distance(const RunPlan& plan) { return kLinkTolerances * plan.attractors.tolerance; }
 
+// Whether a point of that period is `a`: within the link distance, or for a stop's exit
+// (kExitPeriod, point (channel, 0, …)) the same channel.
+bool same_attractor(const RunPlan& plan, const Attractor& a, int period, const double* point) {
+  if (a.period != period) return false;
+  if (period == kExitPeriod) return a.point[0] == point[0];
+  return distance(plan, a.point.data(), point) <= link_distance(plan);
+}
+
 // A lane's or candidate's attractor: its point and period.
 struct Sighting {
   const double* point;
@@ -38,8 +46,7 @@ struct Sighting {
 // first come, first kept, so the order of sightings decides the representatives.
 void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>& table) {
   for (const Attractor& a : table)
-    if (a.period == s.period && distance(plan, a.point.data(), s.point) <= link_distance(plan))
-      return;
+    if (same_attractor(plan, a, s.period, s.point)) return;
   table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}});
 }
 
@@ -137,7 +144,8 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
   std::vector<std::vector<std::size_t>> by_value(static_cast<std::size_t>(axis.values));
   for (std::size_t r : order) by_value[static_cast<std::size_t>(records[r + 1])].push_back(r);
   AttractorTable table;
-  const LabelRule& rule = plan.scene.label_rule;
+  // With a stop, exits are outcomes too (numbered first): the scene's own rule is for attractors.
+  const LabelRule rule = plan.spec.measures.stop ? LabelRule{} : plan.scene.label_rule;
   const std::string& q1 = plan.scene.variables.front().name;
   if (!axis.along_parameter) {
     table.attractors = value_table(plan, records, by_value.front());
@@ -186,6 +194,7 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
     double nearest = INFINITY;
     for (const Attractor& a : table) {
       if (a.period != static_cast<int>(point[n])) continue;
+      if (a.period == kExitPeriod && a.point[0] != point[0]) continue;
       const double d = distance(plan, a.point.data(), point);
       if (d < nearest) nearest = d, label = a.label;
     }

@@ -21,14 +21,18 @@
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
 #include "engine/measures/lyapunov_lanes.hpp"
+#include "engine/measures/observables.hpp"
 #include "engine/run_plan.hpp"
 #include "physics/partials.hpp"
 #include "physics/scene_bounds.hpp"
 
 namespace cs {
 
-template <Scene S, class Method, Carry carry, bool Uniform>
+// `Formulas`: the run's observe and stop (engine/measures/observables.hpp), generated into the
+// run-time kernel; none in the built-in kernels.
+template <Scene S, class Method, Carry carry, bool Uniform, class Formulas = NoMeasureFormulas>
 class BlockRunner {
+  static constexpr bool kFormulas = kHasFormulas<Formulas>;
   static constexpr int W = 64;
   static constexpr int D = S::dof;
   static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
@@ -45,7 +49,8 @@ class BlockRunner {
         writer_(plan, out),
         uniform_params_(S::params_from(plan.grid.base_parameters().data())),
         clock_{plan.spec.t_start, plan.spec.h},
-        mappers_(plan, clock_, uniform_params_) {
+        mappers_(plan, clock_, uniform_params_),
+        formulas_(plan, out, clock_, uniform_params_) {
     LaneState<D> x{};
     x.t = clock_.t_start;
     uniform_coef_ = Method::template coefficients<S>(plan.spec.h, uniform_params_, x);
@@ -114,6 +119,7 @@ class BlockRunner {
     t.steps_done[i] = 0.0;
     lyapunov_.clear(&t == &main_, i);
     mappers_.clear(slot(t, i));
+    if constexpr (kFormulas) formulas_.clear(slot(t, i));
     if (&t == &main_) {
       steps_done_[i] = 0;
       countdown_[i] = std::numeric_limits<LookInt>::max();
@@ -141,6 +147,7 @@ class BlockRunner {
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
     b.point = k;
+    if constexpr (kFormulas) formulas_.clear(i);
     if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
       finish(i, b, x, c, LaneStatus::undefined_at_start);
       return false;
@@ -149,6 +156,12 @@ class BlockRunner {
       observe(i, b, x, c);  // the initial state is sound; its first step is what breaks down
       finish(i, b, x, c, LaneStatus::breakdown);
       return false;
+    }
+    if constexpr (kFormulas) {
+      if (formulas_.load(i, x, c)) {  // the stop's condition holds at the start
+        finish_stopped(i, b, x, c);
+        return false;
+      }
     }
     observe(i, b, x, c);
     if (b.basin.settled && basin_early_stop_) {  // decided before the first step
@@ -169,12 +182,24 @@ class BlockRunner {
   // ---- stepping ------------------------------------------------------------------------------
 
   void advance_tile(Tile& t, int steps) {
-    if constexpr (carry.tangent)
+    if constexpr (carry.tangent) {
       lyapunov_.template advance<Uniform>(t, &t == &main_, steps, uniform_params_, uniform_coef_,
                                           clock_.t_start, clock_.h);
-    else
-      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_,
-                                         clock_.t_start, clock_.h, [](int) {});
+    } else if constexpr (kFormulas) {
+      const int which = &t == &main_ ? 0 : 1;
+      std::int64_t base[W];
+      for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done_[i] : fin_book_[i].n;
+      if (formulas_.before_advance(t, which, base, steps)) {
+        advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
+                                           clock_.h, [&](int s) { formulas_.after_step(t, which, s); });
+        return;
+      }
+      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
+                                         clock_.h, [](int) {});
+    } else {
+      advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
+                                         clock_.h, [](int) {});
+    }
   }
 
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
@@ -193,6 +218,7 @@ class BlockRunner {
       attention_[i] = (!healthy) | (countdown_[i] <= 0) | mappers_.flag(t, i);
     }
     mappers_.screen(t, attention_);
+    if constexpr (kFormulas) formulas_.screen(attention_);
   }
 
   // Chunks until a lane at step n is due for a sample, a mapper's look or the end of its run.
@@ -220,6 +246,14 @@ class BlockRunner {
       Book& b = main_book_[i];
       if (!attention_[i] || b.point < 0) continue;
       b.n = steps_done_[i];
+      if constexpr (kFormulas) {
+        if (formulas_.hit(i)) {  // the stop's condition held after a step of this chunk
+          stop_lane(i, main_, i, b, plan_.chunk);
+          clear(main_, main_book_, i);
+          --active_;
+          continue;
+        }
+      }
       countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
       x.t = clock_.at(b.n);
@@ -248,6 +282,7 @@ class BlockRunner {
     fin_book_[j] = main_book_[i];
     mappers_.move(i, W + j);
     lyapunov_.move(i, j);
+    if constexpr (kFormulas) formulas_.move(i, W + j);
     clear(main_, main_book_, i);
     --active_;
   }
@@ -256,6 +291,13 @@ class BlockRunner {
     advance_tile(fin_, remainder_);
     for (int j = 0; j < fin_count_; ++j) {
       Book& b = fin_book_[j];
+      if constexpr (kFormulas) {
+        if (formulas_.hit(W + j)) {
+          stop_lane(W + j, fin_, j, b, remainder_);
+          clear(fin_, fin_book_, j);
+          continue;
+        }
+      }
       b.n += remainder_;
       LaneState<D> x = fin_.lane(j);
       x.t = clock_.at(b.n);
@@ -298,6 +340,7 @@ class BlockRunner {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
         writer_.record_sample(b, b.n / every, x, c);
+        if constexpr (kFormulas) formulas_.record_sample(lane_slot, b.point, b.n / every, b.n, x, c);
         b.samples_recorded = b.n / every + 1;
       }
     }
@@ -320,18 +363,64 @@ class BlockRunner {
 
   // The lane in `lane_slot` (main or finisher, as the mappers count) hands its results over.
   void finish(int lane_slot, const Book& b, const LaneState<D>& x, const Params& c,
-              LaneStatus status) {
+              LaneStatus status, bool stopped = false, int exit = 0) {
     TrapVerdict verdict = TrapVerdict::not_applicable;
     if (plan_.map.trap_verdict >= 0) verdict = mappers_.trap_verdict(c);
-    Book book = b;
-    lyapunov_.finish(lane_slot, book, status);
-    writer_.finish(book, x, c, status, verdict);
+    // The tangent's exponent marks its lane non_finite where it is: a copy of the book, made
+    // only then (a copy per lane is a cost on a map whose lanes stop early).
+    const Book* book = &b;
+    Book marked;
+    if constexpr (carry.tangent) {
+      marked = b;
+      lyapunov_.finish(lane_slot, marked, status);
+      book = &marked;
+    }
+    writer_.finish(*book, x, c, status, verdict);
+    if constexpr (kFormulas) formulas_.finish(lane_slot, *book, x, c, status, stopped, exit);
     if (plan_.map.basin_cells >= 0) {
       double record[RecurrenceSearch::kRecordWidth];
       UndecidedReason why = UndecidedReason::not_tracked;
       mappers_.recurrence_record(lane_slot, status != LaneStatus::ok, b.basin, record, why);
       writer_.finish_recurrence(b.point, record, why);
     }
+  }
+
+  // ---- the stop (engine/measures/observables.hpp) --------------------------------------------
+
+  // Lane i of tile t (in `lane_slot`), flagged in its last advance of `steps` steps from b.n:
+  // stepped again to the stop, and finished there.
+  void stop_lane(int lane_slot, const Tile& t, int i, Book& b, int steps) {
+    const Params c = t.params(i);
+    LaneState<D> x;
+    b.n = formulas_.rerun(lane_slot, c, t.coef(i), steps, x);
+    x.t = clock_.at(b.n);
+    LaneStatus status = LaneStatus::ok;
+    if (lane_failed(x, status)) return finish(lane_slot, b, x, c, status);
+    finish_stopped(lane_slot, b, x, c);
+  }
+
+  // A healthy lane that stopped at step b.n in state x: its sample there, if one is due, and
+  // its exit as the basin's outcome — unless it settled first (with basin.early_stop = false it
+  // ran on after settling): a lane's outcome is the first decided.
+  void finish_stopped(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
+    if (plan_.samples > 0) {
+      const auto every = plan_.spec.measures.trajectory->every;
+      if (b.n % every == 0 && b.n / every >= b.samples_recorded) {
+        writer_.record_sample(b, b.n / every, x, c);
+        formulas_.record_sample(lane_slot, b.point, b.n / every, b.n, x, c);
+        b.samples_recorded = b.n / every + 1;
+      }
+    }
+    const int exit = formulas_.exit_of(x, clock_.at(b.n), c);
+    if (plan_.map.basin >= 0 && !b.basin.settled) {
+      if (exit > 0) {
+        b.basin.settled = true;
+        b.basin.period = kExitPeriod;
+        b.basin.point[0] = exit;
+        b.basin.settle_time = clock_.at(b.n);
+      }
+    }
+    finish(lane_slot, b, x, c, LaneStatus::ok, true, exit);
   }
 
   const RunPlan& plan_;
@@ -346,6 +435,7 @@ class BlockRunner {
   bool basin_early_stop_ = true;
   MapperSet<S, Uniform, W> mappers_;
   LyapunovLanes<S, Method, carry, W> lyapunov_{plan_, out_};
+  FormulaTracker<S, Method, carry, Uniform, Formulas, W> formulas_;
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
   // Screening state of the main tile, structure of arrays.

@@ -141,6 +141,7 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
                               "smaller oscillator amplitude at the window's end", "", {}, "",
                               std::nullopt});
   }
+  plan_observables(*this);
 }
 
 int RunPlan::add_column(DatasetSpec dataset, std::int64_t width, bool internal) {
@@ -160,7 +161,8 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   // The scene's label rule decides what the labels mean (label_rule.hpp); should it not apply
   // to the attractors found, the file says so and the flags go (BasinSummary::labels).
   const LabelRule& rule = scene.label_rule;
-  if (rule.kind == LabelRule::Kind::sign_of_q1)
+  // A stop's exits are outcomes of their own, numbered with the attractors (observe_plan.hpp).
+  if (rule.kind == LabelRule::Kind::sign_of_q1 && !spec.measures.stop)
     map.basin = add({"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
                      rule.negative + " undecided " + rule.positive, std::nullopt});
   else

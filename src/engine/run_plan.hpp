@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/grid.hpp"
+#include "engine/measures/observe_plan.hpp"
 #include "engine/results.hpp"
 #include "engine/recurrence/recurrence_search.hpp"
 #include "model/run_spec.hpp"
@@ -86,6 +87,7 @@ struct RunPlan {
   RecurrenceSearch recurrence;
   std::vector<ColumnSpec> columns;
   ColumnMap map;
+  ObservePlan observe;  // observe and stop (engine/measures/)
   // Flat index of this plan's first point in the whole grid: a run over several step sizes
   // has one plan per h, each for its contiguous slice of the grid (step_size_slices).
   std::int64_t point_offset = 0;
@@ -96,6 +98,7 @@ struct RunPlan {
   RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
 
  private:
+  friend void plan_observables(RunPlan& plan);
   int add_column(DatasetSpec dataset, std::int64_t width = 1, bool internal = false);
   void add_basin_columns(const BasinMeasure& basin);
 };

@@ -396,6 +396,7 @@ class Parser {
     if (tk.text == "pi") return GiNaC::Pi;
     if (is_function_name(tk.text))
       fail(tk.text + " at " + at(tk.offset) + " is a function; write " + tk.text + "(...)");
+    if (tk.text == "lambda" && out_.observable) return out_.lambda;
     auto v = variable_of(tk.text, text_, tk.offset);
     if (!v) {
       auto it = out_.parameters.find(tk.text);
@@ -423,7 +424,7 @@ class Parser {
 
   // The dof is the highest index written; unwritten q_i, p_i below it are made now.
   void finish_variables() {
-    if (q_.empty() && p_.empty() && !out_.state_free)
+    if (q_.empty() && p_.empty() && !out_.state_free && !out_.observable)
       fail("has no position or momentum: K must contain q or p (or q1..qN, p1..pN)");
     if (out_.state_free) {
       if (!q_.empty() || !p_.empty()) fail("must not read a position or momentum");
@@ -453,12 +454,13 @@ class Parser {
 
 }  // namespace
 
-Parsed parse(const std::string& text, bool state_free) {
+Parsed parse(const std::string& text, bool state_free, bool observable) {
   if (text.size() > kMaxFormulaLength)
     fail("is " + std::to_string(text.size()) + " bytes long; K takes at most " +
          std::to_string(kMaxFormulaLength) + " (write a long sum with fewer terms, or split it into parameters)");
   Parsed parsed;
   parsed.state_free = state_free;
+  parsed.observable = observable;
   Parser(text, parsed).run();
   if (parsed.K.has(GiNaC::I)) fail("is not real-valued");
   for (GiNaC::const_preorder_iterator it = parsed.K.preorder_begin(); it != parsed.K.preorder_end(); ++it)

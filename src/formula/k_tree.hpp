@@ -66,11 +66,15 @@ struct Parsed {
   int dof = 0;
   bool indexed = false;
   bool state_free = false;  // a formula in the parameters alone (a natural frequency), not K
+  // A measure's formula (formula/measure_formulas.hpp): may read lambda (the symbol below) and
+  // need not read q or p.
+  bool observable = false;
+  GiNaC::realsymbol lambda{"lambda"};
 };
 
 // The tree and GiNaC expression of K; throws InputError naming the problem (and its column).
 // With state_free the formula may not read q or p (and need not).
-Parsed parse(const std::string& text, bool state_free = false);
+Parsed parse(const std::string& text, bool state_free = false, bool observable = false);
 
 // The traits the kernel needs, from GiNaC's symbolic partials of parsed.K (k_traits.cpp).
 KTraits analyse(const Parsed& parsed);

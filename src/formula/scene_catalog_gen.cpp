@@ -35,6 +35,7 @@ struct Entry {
   std::string label_rule = "numbered", negative_label, positive_label;
   double default_h = 0.0, default_t_end = 0.0;
   cs::KFormula formula;
+  std::string header;  // generated (physics/<name>.hpp)
 };
 
 [[noreturn]] void fail(const std::string& where, const std::string& message) {
@@ -221,7 +222,7 @@ int main(int argc, char** argv) {
     for (const auto& item : *scenes) entries.push_back(read_entry(*item.as_table()));
     // Everything is generated before anything is written: a bad entry leaves no file behind.
     std::vector<std::pair<std::string, std::string>> files;  // name, text
-    for (const Entry& e : entries) {
+    for (Entry& e : entries) {
       cs::SceneHeaderExtras extras;
       extras.source_note = "Built-in scene " + e.name + " (the paper's scene " + e.paper_label +
                            "), generated from src/physics/scenes.toml by scene_catalog_gen. "
@@ -229,7 +230,8 @@ int main(int argc, char** argv) {
       extras.name = e.name;
       extras.natural_frequencies = e.natural_frequencies;
       try {
-        files.emplace_back(e.name + ".hpp", cs::scene_header(e.formula, e.type, extras));
+        e.header = cs::scene_header(e.formula, e.type, extras);
+        files.emplace_back(e.name + ".hpp", e.header);
       } catch (const std::exception& x) {
         fail("scene " + e.name, x.what());
       }

@@ -108,6 +108,7 @@ class CodeGen {
     }
     names_["z"] = "z(x)";
     names_["t"] = "t(x)";
+    if (f.observable) names_["lambda"] = "lambda(x)";
     for (const auto& [name, symbol] : f.parameters) names_[name] = "c." + fields.at(name);
   }
 

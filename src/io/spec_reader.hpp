@@ -28,7 +28,8 @@ inline constexpr double kMaxSteps = 9007199254740992.0;
 inline constexpr double kStepTolerance = 1e-9;
 
 inline constexpr std::string_view kMeasureNames[] = {"final_state", "trajectory", "basin", "sync",
-                                                     "lyapunov"};
+                                                     "lyapunov", "observe", "observe_window",
+                                                     "stop"};
 
 template <class Info>
 Names names_of(const std::vector<Info>& infos) {
@@ -133,6 +134,9 @@ class SpecReader {
   // Which two degrees of freedom, and the frequencies that scale their momenta.
   void read_sync_pair(const toml::table& t, SyncMeasure& sync);
   void read_lyapunov(const toml::table& measures);  // spec_lyapunov.cpp
+  // observe, observe_window and stop: measures as formulas (spec_observe.cpp).
+  void read_observe(const toml::table& measures);
+  void read_stop(const toml::table& measures);
 
   const toml::table& doc_;
   std::string source_name_;

@@ -30,10 +30,10 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 
 #include "engine/block_runner.hpp"
 #include "{header}"
-
+{measures}
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}{formulas}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
@@ -41,7 +41,8 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
       fmt::arg("scene_struct", scene_struct), fmt::arg("method", m.type),
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
       fmt::arg("tangent", choice.carry.tangent),
-      fmt::arg("uniform", choice.uniform_parameters));
+      fmt::arg("uniform", choice.uniform_parameters), fmt::arg("measures", choice.measures),
+      fmt::arg("formulas", choice.measures.empty() ? "" : std::string(", cs::") + kMeasuresStruct));
 }
 
 SceneSource builtin_scene_source(const std::string& name) {

@@ -18,6 +18,9 @@ struct KernelChoice {
   std::string method;  // a name from method_catalog()
   Carry carry;
   bool uniform_parameters;
+  // The run's observe and stop as a struct kMeasuresStruct (formula/measure_formulas.hpp,
+  // measures_source); empty: none.
+  std::string measures = {};
 };
 
 // A built-in scene's header and struct for kernel_source: its generated header
@@ -29,6 +32,7 @@ struct SceneSource {
   std::string struct_name;
 };
 SceneSource builtin_scene_source(const std::string& name);
+inline constexpr const char* kMeasuresStruct = "RunMeasureFormulas";
 
 // The complete source text. `scene_header` defines struct `scene_struct` in namespace cs.
 std::string kernel_source(const std::string& scene_header, const std::string& scene_struct,

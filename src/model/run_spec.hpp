@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cs {
@@ -89,12 +90,26 @@ struct LyapunovMeasure {
   std::vector<std::string> vars;
 };
 
+// Observables and events as formulas (docs/observables.md; formula/measure_formulas.hpp).
+struct ObserveMeasure {
+  std::vector<std::pair<std::string, std::string>> formulas;  // name → formula, in spec order
+  std::optional<std::array<double, 2>> window;                // observe_window {from, to}
+};
+
+struct StopMeasure {
+  std::string when;                // the condition
+  std::string label;               // exit channel as a formula ("" if none)
+  std::vector<std::string> exits;  // or as conditions, the first that holds (1-based)
+};
+
 struct Measures {
   std::optional<FinalStateMeasure> final_state;
   std::optional<TrajectoryMeasure> trajectory;
   std::optional<BasinMeasure> basin;
   std::optional<SyncMeasure> sync;
   std::optional<LyapunovMeasure> lyapunov;
+  std::optional<ObserveMeasure> observe;
+  std::optional<StopMeasure> stop;
 };
 
 struct CustomScene;  // formula/custom_scene.hpp

@@ -203,7 +203,9 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
            values);
   }
   column("attractor_period", ElementType::int8,
-         "period of the attractor on the stroboscopic map or looks (1: fixed point)", periods);
+         "period of the attractor on the stroboscopic map or looks (1: fixed point; -1: an exit "
+         "of measures.stop, its channel in the first position's column)",
+         periods);
   column("attractor_fraction", ElementType::float64, "fraction of the grid in its basin",
          fractions);
   column("attractor_cells", ElementType::float64, "grid points in its basin", cells);

@@ -23,6 +23,7 @@
 #include "io/memory_budget.hpp"
 #include "kernel_build/kernel_cache.hpp"
 #include "kernel_build/kernel_source.hpp"
+#include "formula/measure_formulas.hpp"
 #include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
 #include "mpi/failure_watch.hpp"
@@ -200,21 +201,23 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
 }
 
-// A custom scene's kernel, or a built-in scene's with the lyapunov tangent, compiled once per
-// node and cached (kernel_build/), before anything is written: a failed build leaves no journal
-// and no file.
+// A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
+// is written: a failed build leaves no journal and no file. A built-in scene goes through it too
+// (with the header the build generated for it) when the run has the lyapunov tangent or
+// measures as formulas (observe, stop): the built-in kernels are compiled without them.
 KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = plan.spec.custom
                                 ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
                                 : builtin_scene_source(plan.scene.name);
-  const std::string source =
-      kernel_source(scene.header, scene.struct_name,
-                    {plan.spec.method, plan.carry, plan.grid.uniform_parameters()});
+  KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
+  if (has_measure_formulas(plan.spec.measures))
+    choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  const std::string source = kernel_source(scene.header, scene.struct_name, choice);
   BuiltKernel built;
   KernelFn kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
-        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with lyapunov", built.seconds,
+        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with its measures", built.seconds,
         built.library);
   return kernel;
 }
@@ -245,7 +248,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
-  if (spec.custom || plan.carry.tangent) {  // the built-in dispatch has no tangent kernels
+  if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
     const auto kernel = custom_kernel(plan, options, comm);
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }

@@ -1,0 +1,376 @@
+// Measures as formulas in the kernel ([measures] observe, observe_window, stop; docs/
+// observables.md). `M` is the struct the run-time kernel is generated with
+// (formula/measure_formulas.hpp, measures_source): observe(x, c, v), stops(x, c), exit(x, c),
+// reading the state through q<i>(x), p<i>(x), z(x), t(x), lambda(x) of an ObservableView.
+// Built-in kernels are compiled with NoMeasureFormulas, for which all of this is empty.
+//
+// The stop: the condition is evaluated after every step, vectorised over the tile (after_step:
+// one flag per lane, ORed; the state is not frozen). A lane flagged during a chunk is looked at
+// when the chunk ends: its state at the chunk's start (a snapshot taken before every chunk) is
+// stepped again, in scalar code by the same step function, until the condition holds — the same
+// bits as in the tile, so the stop is at the end of the first step where it held. Its slot is
+// then free for the next lane: a stopped lane costs nothing after its stop but the rest of the
+// chunk it stopped in.
+//
+// The window statistics: with a trajectory the samples are the trajectory's (looks); without
+// one every step is a sample, accumulated in the same vectorised pass (after_step). A lane's sums
+// run in the order of its steps: the same bits on any rank or thread.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "engine/lane_tile.hpp"
+#include "engine/lane_writer.hpp"
+#include "engine/mappers/basin_mapper.hpp"
+#include "engine/run_plan.hpp"
+#include "numerics/lane_state.hpp"
+
+namespace cs {
+
+// What a measure's formula reads: one lane's state, its time and λ = exp(ln λ).
+template <int D>
+struct ObservableView {
+  const double* q;
+  const double* p;
+  double z, t, lambda;
+};
+template <int i, int D>
+inline double q(const ObservableView<D>& x) { return x.q[i]; }
+template <int i, int D>
+inline double p(const ObservableView<D>& x) { return x.p[i]; }
+template <int D>
+inline double z(const ObservableView<D>& x) { return x.z; }
+template <int D>
+inline double t(const ObservableView<D>& x) { return x.t; }
+template <int D>
+inline double lambda(const ObservableView<D>& x) { return x.lambda; }
+
+// The measures of a run without observe and stop (every built-in kernel).
+struct NoMeasureFormulas {
+  static constexpr int observables = 0;
+  static constexpr bool stop = false;
+  static constexpr bool reads_lambda = false;
+  template <class X, class C>
+  static void observe(const X&, const C&, double*) {}
+  template <class X, class C>
+  static bool stops(const X&, const C&) { return false; }
+  template <class X, class C>
+  static double exit(const X&, const C&) { return 0.0; }
+};
+
+template <class M>
+inline constexpr bool kHasFormulas = M::observables > 0 || M::stop;
+
+// Per-lane state of observe and stop, by slot (0 … W−1 main tile, W … 2W−1 finisher).
+template <Scene S, class Method, Carry carry, bool Uniform, class M, int W>
+class FormulaTracker {
+  static constexpr int D = S::dof;
+  static constexpr int K = M::observables > 0 ? M::observables : 1;
+  using Tile = LaneTile<S, Method, W>;
+  using Params = ParamsOf<S, double>;
+  using Coef = typename Method::template Coef<double>;
+
+ public:
+  FormulaTracker(const RunPlan& plan, BlockResults& out, LaneClock clock, const Params& uniform)
+      : plan_(plan), o_(plan.observe), out_(out), clock_(clock), uniform_(uniform) {
+    for (int s = 0; s < 2 * W; ++s) clear(s);
+  }
+
+  // λ of a lane: exp(ln λ), ln λ as final_log_lambda (lane_state.hpp, log_lambda).
+  static double lambda_of(const LaneState<D>& x) {
+    if constexpr (M::reads_lambda) return std::exp(log_lambda<S>(x));
+    else return 1.0;
+  }
+
+  static ObservableView<D> view(const LaneState<D>& x, double t) {
+    return {x.q, x.p, x.z, t, lambda_of(x)};
+  }
+
+  void clear(int slot) {
+    hit_[slot] = 0;
+    count_[slot] = 0.0;
+    nan_[slot] = 0.0;
+    for (int k = 0; k < K; ++k)
+      sum_[k][slot] = 0.0, min_[k][slot] = INFINITY, max_[k][slot] = -INFINITY;
+  }
+
+  void move(int from, int to) {
+    count_[to] = count_[from];
+    nan_[to] = nan_[from];
+    for (int k = 0; k < K; ++k)
+      sum_[k][to] = sum_[k][from], min_[k][to] = min_[k][from], max_[k][to] = max_[k][from];
+    hit_[to] = 0;
+  }
+
+  // A lane loaded at step 0: its first sample, and whether it stops there already.
+  bool load(int slot, const LaneState<D>& x, const Params& c) {
+    clear(slot);
+    const ObservableView<D> v = view(x, clock_.at(0));
+    if (o_.window_every_step && o_.window_first == 0) accumulate(slot, v, c);
+    if constexpr (M::stop) return M::stops(v, c);
+    return false;
+  }
+
+  // Before a tile is advanced by `steps`: whether its steps need after_step (the stop's
+  // condition; the window's samples when the chunk can reach the window), and if so the lanes'
+  // step counts and, for the stop, a snapshot to step again from. Without it the step loop
+  // runs as in a kernel without formulas.
+  bool before_advance(const Tile& t, int which, const std::int64_t* steps_done, int steps) {
+    const int b = which * W;
+    bool window = false;
+    if constexpr (M::observables > 0) {
+      if (o_.window_every_step) {
+        std::int64_t lo = steps_done[0], hi = steps_done[0];
+        for (int i = 1; i < W; ++i) lo = std::min(lo, steps_done[i]), hi = std::max(hi, steps_done[i]);
+        window = hi + steps >= o_.window_first && lo + 1 <= o_.window_last;
+      }
+    }
+    window_now_ = window;
+    if (!M::stop && !window) return false;
+    for (int i = 0; i < W; ++i) base_[b + i] = steps_done[i], hit_[b + i] = 0;
+    if constexpr (!M::stop) return true;
+    Snapshot& s = snapshot_[which];
+    std::memcpy(s.q, t.q, sizeof s.q);
+    std::memcpy(s.p, t.p, sizeof s.p);
+    std::memcpy(s.kq, t.kq, sizeof s.kq);
+    if constexpr (carry.z || S::z_feeds_back) std::memcpy(s.z, t.z, sizeof s.z);
+    if constexpr (carry.mu) {
+      std::memcpy(s.mu, t.mu, sizeof s.mu);
+      std::memcpy(s.numerator, t.lambda_numerator, sizeof s.numerator);
+      std::memcpy(s.denominator, t.lambda_denominator, sizeof s.denominator);
+      std::memcpy(s.folds, t.lambda_folds, sizeof s.folds);
+    }
+    if constexpr (!S::kz_constant) std::memcpy(s.broken, t.broken, sizeof s.broken);
+    if (o_.window_every_step) {
+      std::memcpy(s.sum, &sum_[0][0], sizeof s.sum);  // both tiles' slots: simple and small
+      std::memcpy(s.min, &min_[0][0], sizeof s.min);
+      std::memcpy(s.max, &max_[0][0], sizeof s.max);
+      std::memcpy(s.count, count_, sizeof s.count);
+      std::memcpy(s.nan, nan_, sizeof s.nan);
+    }
+    return true;
+  }
+
+  // After step s of an advance (the tile's lanes at step base + s + 1): the stop's flags and
+  // the window's every-step samples, vectorised over the tile.
+  void after_step(const Tile& t, int which, int s) {
+    const int b = which * W;
+    if constexpr (M::stop) {
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        LaneState<D> x = tile_lane(t, i);
+        const double time = clock_.at(base_[b + i] + s + 1);
+        hit_[b + i] |= static_cast<LookInt>(M::stops(view(x, time), params(t, i)));
+      }
+    }
+    if constexpr (M::observables > 0) {
+      if (!window_now_) return;
+      // Branch-free, so that it vectorises: a sample outside the window adds +0.0 to the sum
+      // (which is never −0.0: it starts at +0.0), and leaves min, max, count as they are.
+      const std::int64_t first = o_.window_first, last = o_.window_last;
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        const int slot = b + i;
+        const std::int64_t n = base_[slot] + s + 1;
+        const bool in = (n >= first) & (n <= last);
+        LaneState<D> x = tile_lane(t, i);
+        double v[K];
+        M::observe(view(x, clock_.at(n)), params(t, i), v);
+        double nan_seen = nan_[slot];
+        for (int k = 0; k < M::observables; ++k) {
+          const double mn = min_[k][slot], mx = max_[k][slot];
+          sum_[k][slot] = sum_[k][slot] + lane_math::select(in, v[k], 0.0);
+          min_[k][slot] = lane_math::select(in & (v[k] < mn), v[k], mn);
+          max_[k][slot] = lane_math::select(in & (v[k] > mx), v[k], mx);
+          nan_seen = lane_math::select(in & (v[k] != v[k]), 1.0, nan_seen);
+        }
+        nan_[slot] = nan_seen;
+        count_[slot] = count_[slot] + lane_math::select(in, 1.0, 0.0);
+      }
+    }
+  }
+
+  // The main tile's lanes that stopped during the chunk need a look.
+  void screen(LookInt* attention) const {
+    if constexpr (M::stop)
+      for (int i = 0; i < W; ++i) attention[i] |= hit_[i];
+  }
+
+  bool hit(int slot) const {
+    if constexpr (M::stop) return hit_[slot] != 0;
+    return false;
+  }
+
+  // A lane flagged in the last advance of its tile: stepped again from the snapshot until the
+  // condition holds. Returns the stop's step count, x its state there.
+  std::int64_t rerun(int slot, const Params& c, const Coef& coef, int steps, LaneState<D>& x) {
+    const int which = slot / W, i = slot % W;
+    const Snapshot& s = snapshot_[which];
+    x = LaneState<D>{};
+    for (int d = 0; d < D; ++d) x.q[d] = s.q[d][i], x.p[d] = s.p[d][i], x.kq[d] = s.kq[d][i];
+    x.z = 0.0, x.mu = 0.0, x.broken = 0.0;
+    if constexpr (carry.z || S::z_feeds_back) x.z = s.z[i];
+    if constexpr (carry.mu) {
+      x.mu = s.mu[i];
+      x.lambda_numerator = s.numerator[i];
+      x.lambda_denominator = s.denominator[i];
+      x.lambda_folds = s.folds[i];
+    }
+    if constexpr (!S::kz_constant) x.broken = s.broken[i];
+    if (o_.window_every_step) {
+      count_[slot] = s.count[slot];
+      nan_[slot] = s.nan[slot];
+      for (int k = 0; k < K; ++k)
+        sum_[k][slot] = s.sum[k][slot], min_[k][slot] = s.min[k][slot],
+        max_[k][slot] = s.max[k][slot];
+    }
+    std::int64_t n = base_[slot];
+    for (int step = 0; step < steps; ++step) {
+      if constexpr (time_dependent<S>()) x.t = clock_.at(n);
+      else x.t = 0.0;
+      Method::template step<S, carry>(x, c, coef);
+      ++n;
+      const ObservableView<D> v = view(x, clock_.at(n));
+      if (o_.window_every_step && n >= o_.window_first && n <= o_.window_last)
+        accumulate(slot, v, c);
+      if (M::stops(v, c)) return n;
+    }
+    // The tile's flag came from these very steps (the same function on the same bits): not
+    // finding it again is a bug, never a result.
+    throw std::logic_error("FormulaTracker::rerun: the stop flagged in the tile did not recur");
+  }
+
+  // The exit channel of a lane stopped in state x (1, 2, …), 0 when the formula gives none.
+  static int exit_of(const LaneState<D>& x, double time, const Params& c) {
+    const double e = M::exit(view(x, time), c);
+    return e >= 1.0 && e <= 32767.0 && e == std::floor(e) ? static_cast<int>(e) : 0;
+  }
+
+  // A trajectory sample: traj_<name>, and the window's statistics when it lies in the window.
+  void record_sample(int slot, std::int64_t point, std::int64_t sample, std::int64_t n,
+                     const LaneState<D>& x, const Params& c) {
+    if constexpr (M::observables > 0) {
+      double v[K];
+      M::observe(view(x, clock_.at(n)), c, v);
+      for (int k = 0; k < K; ++k)
+        if (o_.trajectory[k] >= 0) column(o_.trajectory[k], point)[sample] = v[k];
+      if (o_.window && n >= o_.window_first && n <= o_.window_last) add(slot, v);
+    }
+  }
+
+  // The lane's values, when it finishes (at t_end, at its stop or when it failed).
+  void finish(int slot, const LaneBook<D>& b, const LaneState<D>& x, const Params& c,
+              LaneStatus status, bool stopped, int exit) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const bool failed = status == LaneStatus::breakdown || status == LaneStatus::undefined_at_start;
+    if constexpr (M::observables > 0) {
+      double v[K];
+      M::observe(view(x, clock_.at(b.n)), c, v);
+      for (int k = 0; k < K; ++k) {
+        column(o_.final_value[k], b.point)[0] = failed ? nan : v[k];
+        if (!o_.window) continue;
+        const bool none = status != LaneStatus::ok || count_[slot] == 0.0 || nan_[slot] != 0.0;
+        column(o_.mean[k], b.point)[0] = none ? nan : sum_[k][slot] / count_[slot];
+        column(o_.min[k], b.point)[0] = none ? nan : min_[k][slot];
+        column(o_.max[k], b.point)[0] = none ? nan : max_[k][slot];
+      }
+    }
+    if (o_.stop) column(o_.stop_time, b.point)[0] = stopped ? clock_.at(b.n) : nan;
+    if (o_.exits) column(o_.stop_exit, b.point)[0] = stopped ? exit : 0;
+    if (stopped && plan_.samples > 0) {
+      // After the stop there is no trajectory: NaN, as after a failure (lane_writer.hpp).
+      for (auto s = b.samples_recorded; s < plan_.samples; ++s) {
+        for (int var : plan_.map.traj_vars)
+          if (var >= 0) column(var, b.point)[s] = nan;
+        if (plan_.map.traj_H >= 0) column(plan_.map.traj_H, b.point)[s] = nan;
+        for (int k = 0; k < o_.observables; ++k) column(o_.trajectory[k], b.point)[s] = nan;
+      }
+    }
+    if (!stopped && status != LaneStatus::ok && plan_.samples > 0)
+      for (auto s = b.samples_recorded; s < plan_.samples; ++s)
+        for (int k = 0; k < o_.observables; ++k) column(o_.trajectory[k], b.point)[s] = nan;
+  }
+
+ private:
+  struct Snapshot {
+    alignas(64) double q[D][W];
+    alignas(64) double p[D][W];
+    alignas(64) double kq[D][W];
+    alignas(64) double z[W];
+    alignas(64) double mu[W];
+    alignas(64) double numerator[W];
+    alignas(64) double denominator[W];
+    alignas(64) double folds[W];
+    alignas(64) double broken[W];
+    double sum[K][2 * W], min[K][2 * W], max[K][2 * W], count[2 * W], nan[2 * W];
+  };
+
+  // Lane i of the tile as the step sees it (the fields the run carries).
+  static LaneState<D> tile_lane(const Tile& t, int i) {
+    LaneState<D> x;
+    for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i];
+    if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
+    if constexpr (carry.mu) {
+      x.mu = t.mu[i];
+      x.lambda_numerator = t.lambda_numerator[i];
+      x.lambda_denominator = t.lambda_denominator[i];
+      x.lambda_folds = t.lambda_folds[i];
+    } else {
+      x.mu = 0.0;
+    }
+    return x;
+  }
+
+  Params params(const Tile& t, int i) const {
+    if constexpr (Uniform) return uniform_;
+    else return t.params(i);
+  }
+
+  void accumulate(int slot, const ObservableView<D>& v, const Params& c) {
+    if constexpr (M::observables > 0) {
+      double values[K];
+      M::observe(v, c, values);
+      add(slot, values);
+    }
+  }
+
+  void add(int slot, const double* v) {
+    double nan_seen = nan_[slot];
+    for (int k = 0; k < K && k < M::observables; ++k) {
+      sum_[k][slot] = sum_[k][slot] + v[k];
+      min_[k][slot] = v[k] < min_[k][slot] ? v[k] : min_[k][slot];
+      max_[k][slot] = v[k] > max_[k][slot] ? v[k] : max_[k][slot];
+      nan_seen = v[k] != v[k] ? 1.0 : nan_seen;
+    }
+    nan_[slot] = nan_seen;
+    count_[slot] = count_[slot] + 1.0;
+  }
+
+  double* column(int c, std::int64_t point) {
+    auto& col = out_.columns[static_cast<std::size_t>(c)];
+    auto width = plan_.columns[static_cast<std::size_t>(c)].width;
+    return col.data() + (point - out_.range.begin) * width;
+  }
+
+  const RunPlan& plan_;
+  const ObservePlan& o_;
+  BlockResults& out_;
+  LaneClock clock_;
+  Params uniform_;
+  bool window_now_ = false;  // the current advance samples the window (before_advance)
+  alignas(64) std::int64_t base_[2 * W];
+  alignas(64) LookInt hit_[2 * W];
+  alignas(64) double sum_[K][2 * W];
+  alignas(64) double min_[K][2 * W];
+  alignas(64) double max_[K][2 * W];
+  alignas(64) double count_[2 * W];
+  alignas(64) double nan_[2 * W];
+  Snapshot snapshot_[M::stop ? 2 : 1];
+};
+
+}  // namespace cs

@@ -1,0 +1,264 @@
+#!/usr/bin/python3
+"""Measures as formulas (issue 24, items 1 and 2): observe, observe_window and stop.
+
+    test_observables.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
+
+  * an observable of built-in quantities, written as the same operations, equals numpy on the
+    written final and trajectory values bit for bit (built-in scene and K alike); lambda is
+    exp(final_log_lambda);
+  * mean_, min_, max_ over observe_window equal numpy on the trajectory samples in the window
+    (the mean as a sequential sum: np.cumsum), and without a trajectory equal those of a run
+    sampling every step;
+  * stop on the damped oscillator's first zero of q: within one step h after the closed form;
+  * a stopped lane's final_* is its state at the stop (the same bits as the trajectory of a run
+    without stop at that step), its trajectory NaN after it, stop_time NaN where it never held;
+  * exit basins (damped Henon-Heiles): every stopped lane labelled by its channel, the exits
+    numbered before the attractors (attractor_period -1);
+  * the same bits on 1x1, 1x2 and 2x1 ranks x threads with observe, window, stop and basin on.
+"""
+import math
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+binary, mpiexec, compare, work = sys.argv[1:5]
+os.makedirs(work, exist_ok=True)
+os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
+    failures += not ok
+
+
+def run(spec_text, name, ranks=0, threads=1):
+    spec = os.path.join(work, name + ".toml")
+    out = os.path.join(work, name + ".h5")
+    with open(spec, "w") as f:
+        f.write(spec_text)
+    command = [binary, "run", spec, "-o", out, "--force", "--quiet"]
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    if ranks:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
+    result = subprocess.run(command, env=env, capture_output=True, text=True)
+    if result.returncode != 0:
+        check(f"{name} runs", False, result.stderr.strip()[-2000:])
+        return None, out
+    return h5py.File(out, "r"), out
+
+
+def bits(x):
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    return x.view(np.uint64)
+
+
+def same(a, b):
+    a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
+    return a.shape == b.shape and np.array_equal(bits(a), bits(b))
+
+
+# ---- observables of built-in quantities: the same bits as numpy --------------------------------
+OSC = """
+[scene]
+{scene}
+[initial]
+z = 1.0
+[integrator]
+method = "{method}"
+h = 0.01
+t_end = 20.0
+[grid]
+q_0 = {{ from = -2.0, to = 2.0, n = 9 }}
+p_0 = {{ from = -1.0, to = 1.0, n = 5 }}
+[measures]
+final_state = true
+trajectory = {{ every = {every} }}
+observe = {{ E = "p^2/2 + omega^2*(q^2/2)", L = "q*p - gamma*z", lam = "lambda", T = "t*q" }}
+observe_window = {{ from = 5.0, to = 15.0 }}
+"""
+BUILTIN = 'name = "damped_oscillator"\nomega = 1.3\ngamma = 0.2'
+AS_K = 'K = "p^2/2 + omega^2*(q^2/2) - gamma*z"\nomega = 1.3\ngamma = 0.2'
+
+for scene_name, scene in (("builtin", BUILTIN), ("K", AS_K)):
+    for method in ("hybrid_leapfrog", "rk4"):
+        f, _ = run(OSC.format(scene=scene, method=method, every=10), f"osc_{scene_name}_{method}")
+        if f is None:
+            continue
+        tag = f"({scene_name}, {method})"
+        omega, gamma = 1.3, 0.2
+        q, p, z = f["final_q"][...], f["final_p"][...], f["final_z"][...]
+        check(f"final_E = p^2/2 + omega^2*(q^2/2) bit for bit {tag}",
+              same(f["final_E"][...], p**2 / 2 + omega**2 * (q**2 / 2)))
+        check(f"final_L = q*p - gamma*z bit for bit {tag}",
+              same(f["final_L"][...], q * p - gamma * z))
+        lam = np.exp(f["final_log_lambda"][...])
+        check(f"final_lam = exp(final_log_lambda) within one ulp {tag}",
+              np.all(np.abs(f["final_lam"][...] - lam) <= np.spacing(lam)))
+        check(f"final_T = t_end*q {tag}", same(f["final_T"][...], 20.0 * q))
+        tq, tp, tz = f["traj_q"][...], f["traj_p"][...], f["traj_z"][...]
+        t = f["t"][...]
+        check(f"traj_E bit for bit {tag}", same(f["traj_E"][...], tp**2 / 2 + omega**2 * (tq**2 / 2)))
+        check(f"traj_L bit for bit {tag}", same(f["traj_L"][...], tq * tp - gamma * tz))
+        check(f"traj_T = t*q bit for bit {tag}", same(f["traj_T"][...], t * tq))
+        inside = (t >= 5.0) & (t <= 15.0)
+        E = f["traj_E"][...][..., inside]
+        check(f"min_E, max_E over the window = numpy on the samples {tag}",
+              same(f["min_E"][...], E.min(axis=-1)) and same(f["max_E"][...], E.max(axis=-1)))
+        mean = np.cumsum(E, axis=-1)[..., -1] / E.shape[-1]
+        check(f"mean_E = sequential sum / count, bit for bit {tag}", same(f["mean_E"][...], mean),
+              f"{np.max(np.abs(f['mean_E'][...] - mean))}")
+        check(f"mean_E ~ numpy's mean {tag}",
+              np.allclose(f["mean_E"][...], E.mean(axis=-1), rtol=1e-13, atol=0))
+
+# Without a trajectory every step is a sample: the statistics of a run sampling every step.
+every1, _ = run(OSC.format(scene=BUILTIN, method="hybrid_leapfrog", every=1), "osc_every1")
+no_traj_spec = OSC.format(scene=BUILTIN, method="hybrid_leapfrog", every=1).replace(
+    "trajectory = { every = 1 }\n", "")
+no_traj, _ = run(no_traj_spec, "osc_no_trajectory")
+if every1 is not None and no_traj is not None:
+    check("no trajectory: every step's state is a sample (= a run with trajectory every 1)",
+          all(same(no_traj[f"{s}_{n}"][...], every1[f"{s}_{n}"][...])
+              for s in ("mean", "min", "max") for n in ("E", "L", "T")))
+    check("observables change nothing else", all(same(no_traj[v][...], every1[v][...])
+                                                for v in ("final_q", "final_p", "final_z")))
+
+# ---- stop: the damped oscillator's first zero of q ---------------------------------------------
+STOP = """
+[scene]
+name = "damped_oscillator"
+omega = 1.0
+gamma = {gamma}
+[integrator]
+method = "{method}"
+h = {h}
+t_end = 10.0
+[grid]
+gamma = {{ values = [0.1, 0.5, 1.0] }}
+[measures]
+final_state = true
+{extra}
+stop = {{ when = "q < 0" }}
+"""
+for method in ("hybrid_leapfrog", "contact_splitting4", "rk4"):
+    h = 0.01
+    f, _ = run(STOP.format(gamma=0.1, method=method, h=h, extra=""), f"stop_{method}")
+    if f is None:
+        continue
+    gammas = np.array([0.1, 0.5, 1.0])
+    wd = np.sqrt(1.0 - gammas**2 / 4)
+    t_zero = (math.pi - np.arctan(2 * wd / gammas)) / wd
+    stop_time = f["stop_time"][...]
+    late = stop_time - t_zero
+    check(f"stop_time within one step after the first zero of q ({method})",
+          np.all(late > -1e-6) and np.all(late < h + 1e-6), f"{late}")
+    check(f"final_q at the stop is the first negative q ({method})",
+          np.all(f["final_q"][...] < 0) and np.all(f["final_q"][...] > -2 * h))
+
+# A stopped lane's final_* is its state at the stop: the trajectory of a run without stop.
+traj, _ = run(STOP.format(gamma=0.1, method="hybrid_leapfrog", h=0.01,
+                          extra="trajectory = { every = 1 }").replace(
+    'stop = { when = "q < 0" }\n', ""), "stop_reference")
+stopped, _ = run(STOP.format(gamma=0.1, method="hybrid_leapfrog", h=0.01,
+                             extra="trajectory = { every = 1 }"), "stop_with_trajectory")
+if traj is not None and stopped is not None:
+    n = np.rint((stopped["stop_time"][...] - 0.0) / 0.01).astype(int)
+    ok = True
+    for var in ("q", "p", "z", "log_lambda"):
+        ref = np.array([traj[f"traj_{var}"][k, n[k]] for k in range(3)])
+        ok = ok and same(stopped[f"final_{var}"][...], ref)
+    check("final_* of a stopped lane = the state at the stop (bit for bit)", ok)
+    q_stopped, q_ref = stopped["traj_q"][...], traj["traj_q"][...]
+    ok = all(same(q_stopped[k, : n[k] + 1], q_ref[k, : n[k] + 1]) and
+             np.all(np.isnan(q_stopped[k, n[k] + 1:])) for k in range(3))
+    check("its trajectory is the same until the stop and NaN after it", ok)
+    check("q first negative at the stop step", all(q_ref[k, n[k]] < 0 <= q_ref[k, n[k] - 1]
+                                                    for k in range(3)))
+
+# The window's statistics of a lane that stops inside the window: over its samples up to the
+# stop (every step without a trajectory: the flagged chunk is stepped again from its snapshot).
+windowed, _ = run(STOP.format(gamma=0.1, method="hybrid_leapfrog", h=0.01,
+                              extra='observe = { E = "p^2/2 + omega^2*(q^2/2)" }\n'
+                                    'observe_window = { from = 0.5, to = 10.0 }'), "stop_window")
+if traj is not None and windowed is not None:
+    n = np.rint(windowed["stop_time"][...] / 0.01).astype(int)
+    ok = True
+    for k in range(3):
+        q, p = traj["traj_q"][k, 50: n[k] + 1], traj["traj_p"][k, 50: n[k] + 1]
+        E = p**2 / 2 + 1.0**2 * (q**2 / 2)
+        ok = ok and same(windowed["mean_E"][k], np.cumsum(E)[-1] / len(E))
+        ok = ok and same(windowed["min_E"][k], E.min()) and same(windowed["max_E"][k], E.max())
+        ok = ok and same(windowed["final_E"][k], E[-1])
+    check("window statistics of a stopped lane = numpy on its steps up to the stop", ok)
+
+# The exit channel as a formula (rounded to the nearest whole number), and exits in a basin map.
+labelled, _ = run(STOP.format(gamma=0.1, method="rk4", h=0.01, extra="basin = { exact_trap = false }").replace(
+    'stop = { when = "q < 0" }', 'stop = { when = "q < 0", label = "1 + 10*gamma + 0.2" }'),
+    "stop_label")
+if labelled is not None:
+    check("label formula: stop_exit = round(1 + 10*gamma + 0.2)",
+          list(labelled["stop_exit"][...]) == [2, 6, 11], f"{labelled['stop_exit'][...]}")
+    check("each channel an exit of the basin map, numbered in the order of the channels",
+          list(labelled["attractor_period"][...]) == [-1, -1, -1] and
+          list(labelled["attractor_q"][...]) == [2.0, 6.0, 11.0] and
+          list(labelled["basin"][...]) == [1, 2, 3] and
+          np.allclose(labelled["settle_time"][...], labelled["stop_time"][...]))
+
+never, _ = run(STOP.format(gamma=0.1, method="rk4", h=0.01, extra="").replace(
+    '"q < 0"', '"q > 5 or (p > 5 and q < -5)"'), "stop_never")
+if never is not None:
+    check("stop_time is NaN where the condition never held", np.all(np.isnan(never["stop_time"][...])))
+    check("status ok there", np.all(never["status"][...] == 0))
+
+# ---- exit basins: damped Henon-Heiles from rest -------------------------------------------------
+HH = """
+[scene]
+K = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 + q1^2*q2 - q2^3/3 - gamma*z"
+gamma = 0.05
+[integrator]
+method = "hybrid_leapfrog"
+h = 0.01
+t_end = 60.0
+[grid]
+q1_0 = { from = -0.9, to = 0.9, n = 32 }
+q2_0 = { from = -0.9, to = 0.9, n = 24 }
+[measures]
+final_state = { vars = ["q1", "q2"] }
+basin = {}
+observe = { E = "p1^2/2 + p2^2/2 + q1^2/2 + q2^2/2 + q1^2*q2 - q2^3/3" }
+observe_window = { from = 0.0, to = 10.0 }
+stop = { when = "q1^2 + q2^2 > 4", exits = ["q2 > 0.5773502691896257*q1 and q2 > -0.5773502691896257*q1", "q1 < 0", "q1 >= 0"] }
+"""
+hh, hh_path = run(HH, "henon_heiles")
+if hh is not None:
+    exit_ = hh["stop_exit"][...]
+    basin = hh["basin"][...]
+    stopped = ~np.isnan(hh["stop_time"][...])
+    check("every stopped lane has a channel, the others none",
+          np.all((exit_ > 0) == stopped) and set(np.unique(exit_)) <= {0, 1, 2, 3})
+    periods = hh["attractor_period"][...]
+    n_exits = int(np.sum(periods == -1))
+    check("exits numbered first in the attractor table", n_exits >= 2 and
+          np.all(periods[:n_exits] == -1) and np.all(periods[n_exits:] >= 0), f"{periods}")
+    channel_of_label = {int(l): int(c) for l, c, per in zip(hh["attractor_label"][...],
+                                                         hh["attractor_q1"][...], periods) if per == -1}
+    ok = all(channel_of_label.get(int(basin[i]), -1) == exit_[i] for i in zip(*np.nonzero(stopped)))
+    check("a stopped lane's basin label is its exit's", ok)
+    q1, q2 = hh["final_q1"][...], hh["final_q2"][...]
+    r2 = q1**2 + q2**2
+    check("final state at the stop is past the escape radius", np.all(r2[stopped] > 4))
+    check("trapped lanes end inside", np.all(r2[~stopped] <= 4))
+    for ranks, threads in ((0, 2), (2, 1)):
+        other, path = run(HH, f"henon_heiles_{ranks}x{threads}", ranks=ranks, threads=threads)
+        if other is not None:
+            r = subprocess.run([sys.executable, compare, hh_path, path], capture_output=True, text=True)
+            check(f"same bits on {max(ranks, 1)} rank(s) x {threads} thread(s)", r.returncode == 0,
+                  r.stdout + r.stderr)
+
+print(f"{failures} failed")
+sys.exit(1 if failures else 0)
