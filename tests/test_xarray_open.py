@@ -86,7 +86,7 @@ def check_data_variables(ds, axes):
     problems = []
     for name, var in ds.data_vars.items():
         per_value = name in ("basin_undecided_fraction", "basin_entropy", "boundary_basin_entropy",
-                             "uncertainty_exponent")  # along a continuation's axis
+                             "uncertainty_exponent", "wada_merging_fraction")  # along a continuation's axis
         is_table = set(var.dims) & TABLES or per_value
         if is_table and set(var.dims) <= set(axes) | TABLES:
             continue
