@@ -31,6 +31,7 @@ double link_distance(const RunPlan& plan) { return kLinkTolerances * plan.attrac
 struct Sighting {
   const double* point;
   int period;
+  std::int64_t source;  // grid index of a lane on it
 };
 
 // Adds a sighting to `table` unless one of the same period lies within the link distance:
@@ -39,7 +40,8 @@ void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>
   for (const Attractor& a : table)
     if (a.period == s.period && distance(plan, a.point.data(), s.point) <= link_distance(plan))
       return;
-  table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}});
+  table.push_back(
+      {0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}, s.source});
 }
 
 // A candidate's values: {block begin, period, point..}, then the recurrence record where the
@@ -66,13 +68,13 @@ std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& bl
     if (point == nullptr) continue;
     if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
     if (point == previous) continue;
-    add_sighting(plan, {point, static_cast<int>(point[n])}, found);
+    add_sighting(plan, {point, static_cast<int>(point[n]), block.range.begin + i}, found);
     previous = point;
   }
   const std::size_t width = record_width(plan);
   std::vector<double> records;
   for (const Attractor& a : found) {
-    records.push_back(static_cast<double>(block.range.begin));
+    records.push_back(static_cast<double>(a.source));
     records.push_back(a.period);
     records.insert(records.end(), a.point.begin(), a.point.end());
     records.resize(records.size() + width - 2 - a.point.size(), std::nan(""));
@@ -93,7 +95,11 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
   std::vector<std::size_t> by_cells;
   for (std::size_t r : order) {
     if (plan.map.basin_cells >= 0 && records[r + 1] == 0.0) by_cells.push_back(r);
-    else add_sighting(plan, {&records[r + 2], static_cast<int>(records[r + 1])}, attractors);
+    else
+      add_sighting(plan,
+                   {&records[r + 2], static_cast<int>(records[r + 1]),
+                    static_cast<std::int64_t>(records[r])},
+                   attractors);
   }
   // Coordinates within the link distance count as equal, so that the order (and the labels) do
   // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's

@@ -23,6 +23,9 @@ struct Attractor {
   // Found by recurrences (period 0): the cells (keys) its lanes located, as far as their
   // records name them (recurrence_table.hpp); empty otherwise.
   std::vector<std::uint64_t> cells;
+  // The grid index of a lane that settled on it (the first the table met): its parameters are
+  // the attractor's (attractor_analysis.cpp).
+  std::int64_t source = -1;
 };
 
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
@@ -33,7 +36,8 @@ inline constexpr double kLinkTolerances = 4.0;
 // map of more points than labels.
 inline constexpr std::int64_t kMaxAttractors = 2147483647;
 
-// The block's candidate attractors, flat: per candidate {block begin, period, point..}.
+// The block's candidate attractors, flat: per candidate {grid index of its first lane, period,
+// point..}; in grid order, so sorting by the first value keeps block order.
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
 
 // How the table's labels were chosen (label_rule.hpp).

@@ -203,7 +203,7 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
 // A custom scene's kernel, or a built-in scene's with the lyapunov tangent, compiled once per
 // node and cached (kernel_build/), before anything is written: a failed build leaves no journal
 // and no file.
-KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+LoadedKernel custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = plan.spec.custom
                                 ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
                                 : builtin_scene_source(plan.scene.name);
@@ -211,7 +211,7 @@ KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Com
       kernel_source(scene.header, scene.struct_name,
                     {plan.spec.method, plan.carry, plan.grid.uniform_parameters()});
   BuiltKernel built;
-  KernelFn kernel = prepare_kernel(source, comm, &built);
+  LoadedKernel kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
         plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with lyapunov", built.seconds,
@@ -245,9 +245,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
+  LoadedKernel kernel;
   if (spec.custom || plan.carry.tangent) {  // the built-in dispatch has no tangent kernels
-    const auto kernel = custom_kernel(plan, options, comm);
-    for (auto& slice : slices) slice->custom_kernel = kernel;
+    kernel = custom_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->custom_kernel = kernel.run;
   }
   SweepSummary summary;
   summary.points = plan.grid.size();
@@ -329,7 +330,17 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   check_every_point_computed(results, plan.grid.size(), c);
   std::optional<BasinSummary> basins;
-  if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);
+  if (plan.map.basin >= 0) {
+    basins = summarise_basins(plan, results, comm);
+    // Each attractor described (attractor_analysis.hpp). A built-in scene's map whose table
+    // holds more than the fixed points of an autonomous scene builds its kernel now (every rank
+    // has the same table, so all or none do); rank 0, which writes the file, integrates.
+    if (kernel.orbit == nullptr && needs_orbits(plan, basins->table))
+      kernel = custom_kernel(plan, options, comm);
+    agreed(comm, [&] {
+      if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit);
+    });
+  }
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
     log("contactsweep: computed every point; writing {} ({})", options.output,
