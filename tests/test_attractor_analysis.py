@@ -145,3 +145,133 @@ if vdp:
     cycle_checks("van der Pol", t, q, f_vdp, j_vdp, 6.6632868593231301, 2.0086198608,
                  0.01, 500.0)
     same_bits(vdp, VDP, "vdp")
+
+# ---- the linear forced oscillator, written autonomously ----------------------------------------
+# q1'' + c q1' + w^2 q1 = F cos(q3), q3' = Omega: an angle (period 2 pi), by cotangent lift.
+W_, C_, F_, OMEGA_ = 1.0, 0.4, 0.5, 1.5
+FORCED = f"""[scene]
+K = "p1*q2 + p2*(-w^2*q1 - c*q2 + F*cos(q3)) + p3*Omega"
+label = "forced_linear_autonomous"
+w = {W_!r}
+c = {C_!r}
+F = {F_!r}
+Omega = {OMEGA_!r}
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 200.0
+[grid]
+q1_0 = {{ from = -1.0, to = 1.0, n = 16 }}
+q2_0 = {{ from = -1.0, to = 1.0, n = 16 }}
+[measures]
+basin = {{ locate = 300, cell_size = 0.25, angles = {{ q3 = 6.283185307179586 }} }}
+"""
+forced, _ = run(FORCED, "forced_1x1")
+if forced:
+    t = table(forced)
+    pts = t["attractor_points"][0][:, :3]
+
+    def f_forced(x):
+        return np.stack([x[:, 1], -W_ ** 2 * x[:, 0] - C_ * x[:, 1] + F_ * np.cos(x[:, 2]),
+                         np.full(len(x), OMEGA_)], axis=1)
+
+    def j_forced(x):
+        return np.array([[0.0, 1.0, 0.0], [-W_ ** 2, -C_, -F_ * np.sin(x[2])], [0.0, 0.0, 0.0]])
+
+    amplitude = F_ / math.sqrt((W_ ** 2 - OMEGA_ ** 2) ** 2 + (C_ * OMEGA_) ** 2)
+    cycle_checks("forced oscillator (autonomous)", t, pts, f_forced, j_forced,
+                 2 * math.pi / OMEGA_, amplitude, 0.01, 200.0)
+
+# ---- fixed points: the damped double well written as K -------------------------------------------
+GAMMA = 0.1
+WELL = f"""[scene]
+K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"
+label = "double_well_as_k"
+a = 1.0
+gamma = {GAMMA!r}
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 100.0
+[grid]
+q_0 = {{ from = -3.0, to = 3.0, n = 32 }}
+p_0 = {{ from = -3.0, to = 3.0, n = 32 }}
+[measures]
+basin = {{}}
+"""
+well, _ = run(WELL, "well_k")
+if well:
+    t = table(well)
+    check("double well as K: two fixed points, no period",
+          t["attractor_kind"].tolist() == [0, 0] and np.all(np.isnan(t["attractor_time_period"])),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    pts = t["attractor_points"]
+    check("double well as K: the samples are the minima (+-1, 0) to the trap's point",
+          np.allclose(pts[:, :, 0], [[-1.0], [1.0]], atol=1e-9) and np.allclose(pts[:, :, 1], 0.0, atol=1e-9),
+          f"{pts[:, 0]}")
+    # At a minimum: A = [[0, 1], [-V'', -gamma]], V'' = 4 a^2; lambda_1 = -gamma/2 to within
+    # ln(cond V)/W (V: A's eigenvectors), W = 100.
+    A = np.array([[0.0, 1.0], [-4.0, -GAMMA]])
+    bound = np.log(np.linalg.cond(np.linalg.eig(A)[1])) / 100.0
+    check("double well as K: lambda_1 = -gamma/2 within ln(cond V)/W",
+          np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= bound),
+          f"{t['attractor_lyapunov']} vs {-GAMMA / 2} +- {bound:.4f}")
+
+# ---- the built-in double well: no kernel built, fixed points from the table -----------------------
+BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"\nlabel = "double_well_as_k"',
+                       'name = "double_well"').replace('"rk4"', '"hybrid_leapfrog"')
+fresh = os.path.join(work, "no_kernel_cache")
+os.makedirs(fresh, exist_ok=True)
+builtin, log = run(BUILTIN, "well_builtin", env_extra={"CONTACTSWEEP_CACHE": fresh})
+if builtin:
+    t = table(builtin)
+    built = [n for n in os.listdir(fresh) if n.startswith("kernel-")]
+    check("built-in double well: no kernel built", not built and "built the kernel" not in log,
+          f"{built}")
+    check("built-in double well: fixed points, lambda_1 and period NaN, points the wells",
+          t["attractor_kind"].tolist() == [0, 0] and np.all(np.isnan(t["attractor_lyapunov"]))
+          and np.all(np.isnan(t["attractor_time_period"]))
+          and np.allclose(t["attractor_points"][:, :, 0], [[-1.0], [1.0]]),
+          f"{t['attractor_kind']} {t['attractor_lyapunov']} {t['attractor_points'][:, 0]}")
+
+# ---- the chaotic forced Duffing on its stroboscopic map ---------------------------------------
+# Reference: tests/reference/duffing_lyapunov.py (scipy DOP853 + variational equations), 8
+# trajectories, T = 10^4 each: mean 0.10514, standard deviation 0.0062.
+REFERENCE, REFERENCE_SD, REFERENCE_T = 0.10514, 0.0062, 1e4
+PERIOD = 2 * math.pi / 1.2
+DUFFING = f"""[scene]
+K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
+label = "forced_duffing_chaotic"
+delta = 0.3
+F = 0.5
+Omega = 1.2
+[integrator]
+method = "contact_splitting4"
+h = {PERIOD / 200!r}
+t_end = {400 * PERIOD!r}
+[grid]
+q_0 = {{ from = -2.0, to = 2.0, n = 32 }}
+p_0 = {{ from = -2.0, to = 2.0, n = 32 }}
+[measures]
+basin = {{ period = {PERIOD!r}, cell_size = 0.3, recurrences = 30, locate = 100 }}
+"""
+chaos, _ = run(DUFFING, "duffing_1x1")
+if chaos:
+    t = table(chaos)
+    window = 256 * PERIOD
+    lam = t["attractor_lyapunov"]
+    # The finite-time exponent over W scatters as sd sqrt(T_ref / W); the fresh tangent's
+    # alignment costs up to 200 lambda / W (as in test_lyapunov.py).
+    tolerance = 4 * REFERENCE_SD * math.sqrt(REFERENCE_T / window) + 200 * REFERENCE / window
+    check("chaotic Duffing: one attractor, kind chaotic, no period",
+          t["attractor_kind"].tolist() == [3] and np.isnan(t["attractor_time_period"][0]),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    check("chaotic Duffing: lambda_1 vs the DOP853 reference",
+          abs(lam[0] - REFERENCE) <= tolerance,
+          f"{lam[0]:.5f} vs {REFERENCE} (tolerance {tolerance:.4f})")
+    check("chaotic Duffing: 256 distinct section points",
+          len(np.unique(t["attractor_points"][0][:, 0])) == 256, "")
+    same_bits(chaos, DUFFING, "duffing")
+
+print("FAILED" if failures else "all passed")
+sys.exit(1 if failures else 0)
