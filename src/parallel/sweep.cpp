@@ -214,7 +214,10 @@ LoadedKernel custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI
   LoadedKernel kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
-        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with lyapunov", built.seconds,
+        plan.spec.custom        ? "scene.K"
+        : plan.carry.tangent    ? "scene " + plan.scene.name + " with lyapunov"
+                                : "scene " + plan.scene.name + " to describe its attractors",
+        built.seconds,
         built.library);
   return kernel;
 }
@@ -337,9 +340,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     // has the same table, so all or none do); rank 0, which writes the file, integrates.
     if (kernel.orbit == nullptr && needs_orbits(plan, basins->table))
       kernel = custom_kernel(plan, options, comm);
+    const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
       if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit);
     });
+    if (kernel.orbit != nullptr && !options.quiet && c.rank == 0)
+      log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count());
   }
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
