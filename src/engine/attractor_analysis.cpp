@@ -116,18 +116,21 @@ AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitR
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
                                                   const std::vector<Attractor>& table,
                                                   OrbitFn orbit) {
-  std::vector<AttractorAnalysis> out;
-  for (const Attractor& a : table) {
-    const OrbitRequest request = orbit_request(plan, a);
+  if (orbit == nullptr && needs_orbits(plan, table))
+    throw std::logic_error("analyse_attractors: an orbit is needed but no kernel was built");
+  std::vector<AttractorAnalysis> out(table.size());
+  // Attractors are independent (each orbit reads its request alone): the threads share them,
+  // and every result is the same bits whichever thread computed it.
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const OrbitRequest request = orbit_request(plan, table[i]);
     if (orbit == nullptr) {
-      if (!table_fixed_point(plan, a))
-        throw std::logic_error("analyse_attractors: an orbit is needed but no kernel was built");
-      out.push_back(classify(plan, a, request, nullptr));
+      out[i] = classify(plan, table[i], request, nullptr);
       continue;
     }
     AttractorOrbit found;
     orbit(request, found);
-    out.push_back(classify(plan, a, request, &found));
+    out[i] = classify(plan, table[i], request, &found);
   }
   return out;
 }
