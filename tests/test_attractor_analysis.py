@@ -14,6 +14,8 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
 * The linear forced oscillator written autonomously (q3 the forcing's phase, an angle, by
   cotangent lift): one periodic attractor, period 2 pi / Omega and amplitude
   F / sqrt((w^2 - Omega^2)^2 + c^2 Omega^2), with the same bounds.
+* A torus that attracts (q1' = 1, q2' = golden mean, q3' = -q3, angles q1, q2): quasiperiodic,
+  lambda_1 = ln(sqrt(2/3)) / W exactly (the tangent's q3 part decays).
 * The damped double well written as K: two fixed points (kind 0, no period), the points at
   (+-1, 0), lambda_1 = -gamma/2 (the linearisation's eigenvalues -gamma/2 +- i sqrt(2 -
   gamma^2/4)) within ln(cond V) / W.
@@ -181,6 +183,39 @@ if forced:
     amplitude = F_ / math.sqrt((W_ ** 2 - OMEGA_ ** 2) ** 2 + (C_ * OMEGA_) ** 2)
     cycle_checks("forced oscillator (autonomous)", t, pts, f_forced, j_forced,
                  2 * math.pi / OMEGA_, amplitude, 0.01, 200.0)
+
+# ---- a quasi-periodic attractor: an irrational winding on a torus that attracts ---------------
+# q1' = 1, q2' = w (golden mean; both angles of period 2 pi), q3' = -q3: every orbit tends to the
+# torus q3 = 0 and winds on it without closing (within 4 tolerances, the closest return of the
+# golden winding needs ~150 windings, t ~ 1000 > the window). The tangent starts as (1, 1, 1) in q:
+# its q1, q2 parts stay, its q3 part decays as e^-t, so lambda_1 = ln(sqrt 2 / sqrt 3) / W to
+# within e^-W (rk4's own factor per step only changes how fast it decays).
+TORUS = """[scene]
+K = "p1 + p2*w + p3*(-q3)"
+label = "torus"
+w = 1.618033988749895
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 400.0
+[grid]
+q1_0 = { from = 0.0, to = 3.0, n = 4 }
+q3_0 = { from = -1.0, to = 1.0, n = 4 }
+[measures]
+basin = { locate = 300, cell_size = 0.5, angles = { q1 = 6.283185307179586, q2 = 6.283185307179586 } }
+"""
+torus, _ = run(TORUS, "torus")
+if torus:
+    t = table(torus)
+    expected = math.log(math.sqrt(2.0 / 3.0)) / 400.0
+    check("torus: one attractor, quasiperiodic, no period",
+          t["attractor_kind"].tolist() == [2] and np.isnan(t["attractor_time_period"][0]),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    check("torus: lambda_1 = ln(sqrt(2/3)) / W", abs(t["attractor_lyapunov"][0] - expected) <= 1e-12,
+          f"{t['attractor_lyapunov'][0]!r} vs {expected!r}")
+    check("torus: the samples lie on q3 = 0, p = 0",
+          np.all(np.abs(t["attractor_points"][0][:, 2]) <= 1e-12)
+          and np.all(t["attractor_points"][0][:, 3:] == 0.0), "")
 
 # ---- fixed points: the damped double well written as K -------------------------------------------
 GAMMA = 0.1
