@@ -43,7 +43,8 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
   plan.grid.point(a.source >= 0 ? a.source : 0, r.params.data(), r.state.data());
   const bool from_lane = a.period == 0 && a.source >= 0;
   if (!from_lane)
-    for (int k = 0; k < n; ++k) r.state[static_cast<std::size_t>(k)] = a.point[static_cast<std::size_t>(k)];
+    for (int k = 0; k < n; ++k)
+      r.state[static_cast<std::size_t>(k)] = a.point[static_cast<std::size_t>(k)];
   if (!plan.lyapunov_seed.empty()) {  // the lyapunov measure's `vars`
     r.seed = plan.lyapunov_seed;
     r.log_norm0 = plan.lyapunov_log_norm0;
@@ -81,12 +82,15 @@ AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitR
   if (orbit == nullptr || !orbit->finite) {
     // Described by the table: the point repeated (a fixed point; a lane that diverged on its
     // way round cannot say more).
-    for (int k = 0; k < request.samples; ++k) out.points.insert(out.points.end(), a.point.begin(), a.point.end());
-    if (table_fixed_point(plan, a)) out.kind = AttractorKind::fixed_point;
+    for (int k = 0; k < request.samples; ++k)
+      out.points.insert(out.points.end(), a.point.begin(), a.point.end());
+    if (table_fixed_point(plan, a))
+      out.kind = AttractorKind::fixed_point;
     else if (a.period >= 1) {
       out.kind = AttractorKind::periodic;
       out.time_period = a.period * *plan.spec.measures.basin->period;
-    } else out.kind = AttractorKind::quasiperiodic;
+    } else
+      out.kind = AttractorKind::quasiperiodic;
     return out;
   }
   out.points = orbit->points;
@@ -95,11 +99,13 @@ AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitR
   const bool chaotic = orbit->lyapunov > kChaosEfolds / window;
   if (request.stroboscopic) {
     const double period = *plan.spec.measures.basin->period;
-    if (chaotic) out.kind = AttractorKind::chaotic;
+    if (chaotic)
+      out.kind = AttractorKind::chaotic;
     else if (a.period >= 1 || orbit->stroboscopic_return > 0) {
       out.kind = AttractorKind::periodic;
       out.time_period = (a.period >= 1 ? a.period : orbit->stroboscopic_return) * period;
-    } else out.kind = AttractorKind::quasiperiodic;
+    } else
+      out.kind = AttractorKind::quasiperiodic;
   } else if (table_fixed_point(plan, a) || !orbit->moved) {
     out.kind = AttractorKind::fixed_point;
   } else if (chaotic) {

@@ -41,26 +41,26 @@ struct OrbitRequest {
   std::int64_t sample_steps = 0;  // between samples: one forcing period when stroboscopic
   int samples = kAttractorSamples;
   bool stroboscopic = false;
-  double tolerance = 0.0;             // the basin's
-  std::vector<double> angle_period;   // q.., p..: 0 where not an angle
+  double tolerance = 0.0;            // the basin's
+  std::vector<double> angle_period;  // q.., p..: 0 where not an angle
 };
 
 // What the kernel found along it.
 struct AttractorOrbit {
-  std::vector<double> points;        // samples × (q.., p..)
-  double lyapunov = 0.0;             // over the window
-  double return_time = 0.0;          // autonomous: first return, NaN if none
-  int stroboscopic_return = 0;       // first k > 0 with sample k within tolerance of sample 0
-  bool moved = false;                // some sample further than the tolerance from the first
-  bool finite = true;                // false: broke down or diverged
+  std::vector<double> points;   // samples × (q.., p..)
+  double lyapunov = 0.0;        // over the window
+  double return_time = 0.0;     // autonomous: first return, NaN if none
+  int stroboscopic_return = 0;  // first k > 0 with sample k within tolerance of sample 0
+  bool moved = false;           // some sample further than the tolerance from the first
+  bool finite = true;           // false: broke down or diverged
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
 
 struct AttractorAnalysis {
   AttractorKind kind = AttractorKind::fixed_point;
-  double lyapunov = 0.0;     // 1/time; NaN where not computed
-  double time_period = 0.0;  // time units; NaN unless periodic
+  double lyapunov = 0.0;       // 1/time; NaN where not computed
+  double time_period = 0.0;    // time units; NaN unless periodic
   std::vector<double> points;  // kAttractorSamples × (q.., p..)
 };
 

@@ -69,7 +69,9 @@ void attractor_orbit(const OrbitRequest& r, AttractorOrbit& out) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto c = S::params_from(r.params.data());
   LaneState<D> x{};
-  for (int d = 0; d < D; ++d) x.q[d] = r.state[static_cast<std::size_t>(d)], x.p[d] = r.state[static_cast<std::size_t>(D + d)];
+  for (int d = 0; d < D; ++d)
+    x.q[d] = r.state[static_cast<std::size_t>(d)],
+    x.p[d] = r.state[static_cast<std::size_t>(D + d)];
   x.z = r.state[2 * D];
   x.mu = 0.0;
   x.lambda_numerator = x.lambda_denominator = 1.0;
@@ -119,7 +121,8 @@ void attractor_orbit(const OrbitRequest& r, AttractorOrbit& out) {
     detail::put(x, now);
     double gn = 0.0;
     for (int k = 0; k < 2 * D; ++k) {
-      const double dk = phase_difference(now[k], x0[k], r.angle_period[static_cast<std::size_t>(k)]);
+      const double dk =
+          phase_difference(now[k], x0[k], r.angle_period[static_cast<std::size_t>(k)]);
       if (n == 0) v0[k] = dk;
       gn += dk * v0[k];
     }
@@ -150,8 +153,8 @@ void attractor_orbit(const OrbitRequest& r, AttractorOrbit& out) {
   x = start;
   TangentLane<S, Method, carry> cycle(x, c, r.h, seed);
   for (int k = 0; k < r.samples; ++k) {
-    const auto at = static_cast<std::int64_t>(
-        std::llround(out.return_time * k / (r.samples * r.h)));
+    const auto at =
+        static_cast<std::int64_t>(std::llround(out.return_time * k / (r.samples * r.h)));
     while (cycle.steps() < at) cycle.step();
     detail::put(x, &out.points[static_cast<std::size_t>(k) * 2 * D]);
   }
