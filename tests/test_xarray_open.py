@@ -78,8 +78,9 @@ def expected_axes(ds, wanted_dims):  # TABLES: defined below, read at call time
     return max(dims, key=len, default=())
 
 
-# The attractor table of a basin map, and its fractions along one axis (a continuation).
-TABLES = {"attractor"}
+# The attractor table of a basin map (its samples along each attractor too), and its fractions
+# along one axis (a continuation).
+TABLES = {"attractor", "point", "var"}  # attractor_points: (attractor, point, var)
 
 
 def check_data_variables(ds, axes):

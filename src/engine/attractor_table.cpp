@@ -40,6 +40,7 @@ bool same_attractor(const RunPlan& plan, const Attractor& a, int period, const d
 struct Sighting {
   const double* point;
   int period;
+  std::int64_t source;  // grid index of a lane on it
 };
 
 // Adds a sighting to `table` unless one of the same period lies within the link distance:
@@ -47,7 +48,8 @@ struct Sighting {
 void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>& table) {
   for (const Attractor& a : table)
     if (same_attractor(plan, a, s.period, s.point)) return;
-  table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}});
+  table.push_back(
+      {0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}, s.source});
 }
 
 // A candidate's values: {block begin, value, period, point..}, then the recurrence record where
@@ -75,12 +77,12 @@ void add_point_candidates(const RunPlan& plan, const BlockResults& block, std::i
     if (point == nullptr) continue;
     if (by_recurrence(plan, point)) continue;  // told apart by their cells, below
     if (point == previous) continue;
-    add_sighting(plan, {point, static_cast<int>(point[n])}, found);
+    add_sighting(plan, {point, static_cast<int>(point[n]), block.range.begin + i}, found);
     previous = point;
   }
   const std::size_t width = record_width(plan);
   for (const Attractor& a : found) {
-    records.push_back(static_cast<double>(block.range.begin));
+    records.push_back(static_cast<double>(a.source));
     records.push_back(static_cast<double>(value));
     records.push_back(a.period);
     records.insert(records.end(), a.point.begin(), a.point.end());
@@ -98,7 +100,11 @@ std::vector<Attractor> value_table(const RunPlan& plan, const std::vector<double
   for (std::size_t r : order) {
     const double period = records[r + 2];
     if (plan.map.basin_cells >= 0 && period == 0.0) by_cells.push_back(r);
-    else add_sighting(plan, {&records[r + kCandidateHead], static_cast<int>(period)}, attractors);
+    else
+      add_sighting(plan,
+                   {&records[r + kCandidateHead], static_cast<int>(period),
+                    static_cast<std::int64_t>(records[r])},
+                   attractors);
   }
   // Coordinates within the link distance count as equal, so that the order (and the labels) do
   // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's

@@ -24,6 +24,9 @@ struct Attractor {
   // Found by recurrences (period 0): the cells (keys) its lanes located, as far as their
   // records name them (recurrence_table.hpp); empty otherwise.
   std::vector<std::uint64_t> cells;
+  // The grid index of a lane that settled on it (the first the table met): its parameters are
+  // the attractor's (attractor_analysis.cpp).
+  std::int64_t source = -1;
 };
 
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
@@ -34,10 +37,11 @@ inline constexpr double kLinkTolerances = 4.0;
 // map of more points than labels.
 inline constexpr std::int64_t kMaxAttractors = 2147483647;
 
-// The block's candidate attractors, flat: per candidate {block begin, value, period, point..},
-// `value` the index along the continuation axis of its lanes (attractor_continuation.hpp; 0
-// without one): a block that spans two values gives candidates for each.
-inline constexpr std::size_t kCandidateHead = 3;  // block begin, value, period
+// The block's candidate attractors, flat: per candidate {grid index of its first lane, value,
+// period, point..}, `value` the index along the continuation axis of its lanes
+// (attractor_continuation.hpp; 0 without one): a block that spans two values gives candidates
+// for each. In grid order, so sorting by the first value keeps block order.
+inline constexpr std::size_t kCandidateHead = 3;  // first lane, value, period
 std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& block);
 
 // How the table's labels were chosen (label_rule.hpp).

@@ -388,6 +388,8 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
     checker(H5DSattach_scale(dataset.get(), scales[d], static_cast<unsigned>(d)),
             what + ": cannot attach its dimension scale");
   write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, checker);
+  if (!spec.flag_values.empty())  // attractor_kind; the tables that had none keep none
+    write_flag_values(dataset.get(), spec.flag_values, spec.type, checker);
   if (!spec.flag_meanings.empty())
     write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, checker);
   tables.push_back(std::move(dataset));

@@ -342,7 +342,7 @@ BuiltKernel build_kernel(const std::string& source) {
   return built;
 }
 
-KernelFn load_kernel(const std::string& source) {
+LoadedKernel load_kernel(const std::string& source) {
   const std::string key = kernel_key(source), name = library_name(key);
   const OwnedDirectory dir = open_cache(OwnedDirectory::Create::no);
   const std::string path = dir.is_open() ? dir.path_of(name) : kernel_cache_directory() + "/" + name;
@@ -362,17 +362,18 @@ KernelFn load_kernel(const std::string& source) {
     throw std::runtime_error(fmt::format("the kernel '{}' was not built for this K (its key: {}; "
                                          "expected {})", path, stamped ? stamped : "none", key));
   void* entry = ::dlsym(handle, kKernelEntry);
-  if (entry == nullptr)
-    throw std::runtime_error(
-        fmt::format("the kernel '{}' has no entry point {}", path, kKernelEntry));
+  void* orbit = ::dlsym(handle, kOrbitEntry);
+  if (entry == nullptr || orbit == nullptr)
+    throw std::runtime_error(fmt::format("the kernel '{}' has no entry point {}", path,
+                                         entry == nullptr ? kKernelEntry : kOrbitEntry));
   // The handle stays open for the process's life, and so does the descriptor: the loader knows
   // the library by its name /proc/self/fd/N, and would hand it out again for a later kernel
   // loaded through a reused N.
   library.fd = -1;
-  return reinterpret_cast<KernelFn>(entry);
+  return {reinterpret_cast<KernelFn>(entry), reinterpret_cast<OrbitFn>(orbit)};
 }
 
-KernelFn prepare_kernel(const std::string& source, MPI_Comm comm, BuiltKernel* built) {
+LoadedKernel prepare_kernel(const std::string& source, MPI_Comm comm, BuiltKernel* built) {
   int node_rank = 0;
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(comm)) {

@@ -27,11 +27,19 @@
 #include <string>
 #include <vector>
 
+#include "engine/attractor_analysis.hpp"  // OrbitFn
+
 namespace cs {
 
 struct RunPlan;
 struct BlockResults;
 using KernelFn = void (*)(const RunPlan&, BlockResults&);
+
+// A loaded kernel's two entry points: the block runner and one attractor's orbit.
+struct LoadedKernel {
+  KernelFn run = nullptr;
+  OrbitFn orbit = nullptr;
+};
 
 // How the cache is named in messages about its trust (io/owned_directory.hpp).
 inline constexpr const char* kKernelCachePurpose = "the kernel cache";
@@ -64,10 +72,11 @@ BuiltKernel build_kernel(const std::string& source);
 
 // Checks the cached library of `source` and loads it (dlopen + dlsym of the entry point);
 // throws std::runtime_error when it is missing, damaged or made for another key.
-KernelFn load_kernel(const std::string& source);
+LoadedKernel load_kernel(const std::string& source);
 
 // Collective: one build per node (its first rank; the others wait), then every rank loads it.
 // Throws on every rank when any step fails anywhere.
-KernelFn prepare_kernel(const std::string& source, MPI_Comm comm, BuiltKernel* built = nullptr);
+LoadedKernel prepare_kernel(const std::string& source, MPI_Comm comm,
+                            BuiltKernel* built = nullptr);
 
 }  // namespace cs

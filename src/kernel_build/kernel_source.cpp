@@ -28,6 +28,7 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 {scene}
 #include <memory>
 
+#include "engine/attractor_orbit.hpp"
 #include "engine/block_runner.hpp"
 #include "{header}"
 {measures}
@@ -36,8 +37,15 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
   using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}{formulas}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
+
+// The orbit of one attractor of a basin map (engine/attractor_analysis.hpp).
+extern "C" [[gnu::visibility("default")]] void {orbit_entry}(const cs::OrbitRequest& request,
+                                                              cs::AttractorOrbit& orbit) {{
+  cs::attractor_orbit<cs::{scene_struct}, cs::{method}>(request, orbit);
+}}
 )",
       fmt::arg("scene", scene_header), fmt::arg("header", m.header), fmt::arg("entry", kKernelEntry),
+      fmt::arg("orbit_entry", kOrbitEntry),
       fmt::arg("scene_struct", scene_struct), fmt::arg("method", m.type),
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
       fmt::arg("tangent", choice.carry.tangent),

@@ -11,6 +11,8 @@
 namespace cs {
 
 inline constexpr const char* kKernelEntry = "contactsweep_run_block";
+// The second entry point: one attractor's orbit (engine/attractor_orbit.hpp), for basin maps.
+inline constexpr const char* kOrbitEntry = "contactsweep_attractor_orbit";
 // A C string constant each kernel exports: the cache key it was built for (kernel_cache.hpp).
 inline constexpr const char* kKernelKeySymbol = "contactsweep_kernel_key";
 

@@ -126,6 +126,51 @@ void add_branches(const BasinSummary& basins, const RunPlan& plan, FileLayout& l
   }
 }
 
+// Each attractor's description (attractor_analysis.hpp): kind, λ₁, period in time, samples
+// along it over (attractor, point, var). Values where it was computed (rank 0 after the run),
+// NaN for the names declared before the run.
+void add_analysis_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {
+  const std::size_t n = basins.table.size(), vars = static_cast<std::size_t>(2 * plan.scene.dof);
+  const bool known = basins.analysis.size() == n;
+  std::vector<double> kind, lyapunov, period, points;
+  for (std::size_t a = 0; a < n; ++a) {
+    const AttractorAnalysis* d = known ? &basins.analysis[a] : nullptr;
+    kind.push_back(d ? static_cast<double>(d->kind) : 0.0);
+    lyapunov.push_back(d ? d->lyapunov : std::nan(""));
+    period.push_back(d ? d->time_period : std::nan(""));
+    if (d) points.insert(points.end(), d->points.begin(), d->points.end());
+    else points.resize(points.size() + kAttractorSamples * vars, std::nan(""));
+  }
+  std::vector<double> point_index(kAttractorSamples), var_index(vars);
+  for (int k = 0; k < kAttractorSamples; ++k) point_index[static_cast<std::size_t>(k)] = k;
+  std::string var_names;
+  for (std::size_t k = 0; k < vars; ++k) {
+    var_index[k] = static_cast<double>(k);
+    var_names += fmt::format("{}{} {}", k ? ", " : "", k, plan.scene.variables[k].name);
+  }
+  layout.extra_dimensions.push_back(
+      {"point", point_index, "sample along the attractor (in time order)", ""});
+  layout.extra_dimensions.push_back(
+      {"var", var_index, "phase-space variable: " + var_names, ""});
+  const auto table = [&](DatasetSpec spec, std::vector<std::string> dims, std::vector<double> values) {
+    layout.tables.push_back({std::move(spec), std::move(dims), std::move(values)});
+  };
+  table({"attractor_kind", ElementType::int8, false, "kind of the attractor", "", {0, 1, 2, 3, 4},
+         kAttractorKindMeanings, std::nullopt},
+        {"attractor"}, kind);
+  table({"attractor_lyapunov", ElementType::float64, false,
+         "largest Lyapunov exponent on the attractor (finite-time, integrator's step map)",
+         "1/time", {}, "", std::nullopt},
+        {"attractor"}, lyapunov);
+  table({"attractor_time_period", ElementType::float64, false,
+         "period of the attractor in time (NaN unless periodic)", "time", {}, "", std::nullopt},
+        {"attractor"}, period);
+  table({"attractor_points", ElementType::float64, false,
+         "samples along the attractor (q.., p..; on the stroboscopic section if forced)", "", {},
+         "", std::nullopt},
+        {"attractor", "point", "var"}, points);
+}
+
 }  // namespace
 
 BasinSummary summarise_basins(const RunPlan& whole,
@@ -209,6 +254,7 @@ void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& 
   column("attractor_fraction", ElementType::float64, "fraction of the grid in its basin",
          fractions);
   column("attractor_cells", ElementType::float64, "grid points in its basin", cells);
+  add_analysis_to_layout(basins, plan, layout);
   auto& number = layout.number_attributes;
   const auto undecided = s.cells.find(0);
   number["undecided_fraction"] =

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/attractor_analysis.hpp"
 #include "engine/attractor_table.hpp"
 #include "engine/basin_statistics.hpp"
 #include "engine/run_plan.hpp"
@@ -21,6 +22,8 @@ struct BasinSummary {
   // Along a continuation axis (the grid's first, a parameter): the attractors at each of its
   // values, labelled as in `table` (attractor_continuation.hpp); empty otherwise.
   std::vector<std::vector<Attractor>> along;
+  // rank 0: each attractor's kind, λ₁, period in time and samples (attractor_analysis.hpp)
+  std::vector<AttractorAnalysis> analysis;
   // The type of `basin` and `attractor_label`: int8 while the labels fit (the double well's
   // -1/+1 and every map of up to 127 attractors keep their files), int16, then int32, beyond.
   ElementType label_type = ElementType::int8;

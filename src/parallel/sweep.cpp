@@ -205,7 +205,7 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
 // is written: a failed build leaves no journal and no file. A built-in scene goes through it too
 // (with the header the build generated for it) when the run has the lyapunov tangent or
 // measures as formulas (observe, stop): the built-in kernels are compiled without them.
-KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+LoadedKernel custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = plan.spec.custom
                                 ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
                                 : builtin_scene_source(plan.scene.name);
@@ -214,10 +214,14 @@ KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Com
     choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
   const std::string source = kernel_source(scene.header, scene.struct_name, choice);
   BuiltKernel built;
-  KernelFn kernel = prepare_kernel(source, comm, &built);
+  LoadedKernel kernel = prepare_kernel(source, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
-        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with its measures", built.seconds,
+        plan.spec.custom        ? "scene.K"
+        : plan.carry.tangent    ? "scene " + plan.scene.name + " with lyapunov"
+        : has_measure_formulas(plan.spec.measures) ? "scene " + plan.scene.name + " with its measures"
+                                : "scene " + plan.scene.name + " to describe its attractors",
+        built.seconds,
         built.library);
   return kernel;
 }
@@ -248,9 +252,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
+  LoadedKernel kernel;
   if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
-    const auto kernel = custom_kernel(plan, options, comm);
-    for (auto& slice : slices) slice->custom_kernel = kernel;
+    kernel = custom_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->custom_kernel = kernel.run;
   }
   SweepSummary summary;
   summary.points = plan.grid.size();
@@ -332,7 +337,21 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
   check_every_point_computed(results, plan.grid.size(), c);
   std::optional<BasinSummary> basins;
-  if (plan.map.basin >= 0) basins = summarise_basins(plan, results, comm);
+  if (plan.map.basin >= 0) {
+    basins = summarise_basins(plan, results, comm);
+    // Each attractor described (attractor_analysis.hpp). A built-in scene's map whose table
+    // holds more than the fixed points of an autonomous scene builds its kernel now (every rank
+    // has the same table, so all or none do); rank 0, which writes the file, integrates.
+    if (kernel.orbit == nullptr && needs_orbits(plan, basins->table))
+      kernel = custom_kernel(plan, options, comm);
+    const auto analysis_start = std::chrono::steady_clock::now();
+    agreed(comm, [&] {
+      if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit);
+    });
+    if (kernel.orbit != nullptr && !options.quiet && c.rank == 0)
+      log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count());
+  }
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
     log("contactsweep: computed every point; writing {} ({})", options.output,

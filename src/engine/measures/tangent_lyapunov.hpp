@@ -135,40 +135,73 @@ LaneTangent<S::dof> seeded_tangent(const LaneState<S::dof>& x, const ParamsOf<S,
 
 // ---- one lane: the facility the attractor table uses (attractor_lyapunov, issue 23) ----------
 
+// One lane and its tangent, advanced a step at a time: the pieces of lane_lyapunov, for a caller
+// that looks at the orbit between steps (engine/attractor_orbit.hpp). The lane's time is
+// x.t at construction + n·h, n the steps taken since (never accumulated).
+template <Scene S, class Method, Carry carry>
+class TangentLane {
+  // Without ln λ: the hybrid leap-frog's λ products would need the tile's folding.
+  static_assert(!carry.mu, "TangentLane integrates no ln lambda");
+  static constexpr int D = S::dof;
+  static constexpr int N = 2 * D + (tangent_has_z<S>() ? 1 : 0);
+
+ public:
+  // x with its force cache set by Method::start; the tangent starts as `seed` (seeded_tangent).
+  TangentLane(LaneState<D>& x, const ParamsOf<S, double>& c, double h,
+              const std::vector<double>& seed)
+      : x_(x),
+        h_(h),
+        t0_(x.t),
+        ct_(params_as_tangent<S>(c)),
+        kt_(coef_as_tangent<Method>(Method::template coefficients<S>(h, c, x))),
+        w_(seeded_tangent<S, Method>(x, c, seed)) {}
+
+  void step() {
+    LaneState<D, Tangent> y = tangent_state<S>(x_, w_);
+    y.t = {t0_ + static_cast<double>(n_) * h_, 0.0};
+    Method::template step<S, carry>(y, ct_, kt_);
+    for (int d = 0; d < D; ++d) {
+      x_.q[d] = y.q[d].v, x_.p[d] = y.p[d].v, x_.kq[d] = y.kq[d].v;
+      w_.v[d] = y.q[d].d, w_.v[D + d] = y.p[d].d, w_.dkq[d] = y.kq[d].d;
+    }
+    x_.z = y.z.v, x_.mu = y.mu.v, x_.broken = y.broken.v;
+    x_.lambda_numerator = y.lambda_numerator.v, x_.lambda_denominator = y.lambda_denominator.v;
+    if constexpr (tangent_has_z<S>()) w_.v[2 * D] = y.z.d;
+    double m = 0.0;
+    for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w_.v[k]));
+    const double scale = fold_scale(m, w_.folds);
+    for (int k = 0; k < N; ++k) w_.v[k] = w_.v[k] * scale;
+    for (int d = 0; d < D; ++d) w_.dkq[d] = w_.dkq[d] * scale;
+    ++n_;
+    x_.t = t0_ + static_cast<double>(n_) * h_;
+  }
+
+  std::int64_t steps() const { return n_; }
+  const LaneTangent<D>& tangent() const { return w_; }
+
+  // The finite-time exponent over the steps taken; `log_norm0` = ln‖v_0‖.
+  double exponent(double log_norm0) const {
+    return lyapunov_value<D, tangent_has_z<S>()>(w_.v, w_.folds, log_norm0, n_, h_);
+  }
+
+ private:
+  LaneState<D>& x_;
+  double h_, t0_;
+  ParamsOf<S, Tangent> ct_;
+  typename Method::template Coef<Tangent> kt_;
+  LaneTangent<D> w_;
+  std::int64_t n_ = 0;
+};
+
 // The finite-time exponent of one lane started at x (its force cache set by Method::start) with
 // tangent `seed`, over `steps` steps of h from time x.t; x is left at the end state. The same
 // arithmetic as the tile's, lane by lane.
 template <Scene S, class Method, Carry carry>
 double lane_lyapunov(LaneState<S::dof>& x, const ParamsOf<S, double>& c, std::int64_t steps,
                      double h, const std::vector<double>& seed, double log_norm0) {
-  // Without ln λ: the hybrid leap-frog's λ products would need the tile's folding.
-  static_assert(!carry.mu, "lane_lyapunov integrates no ln lambda");
-  constexpr int D = S::dof;
-  constexpr int N = 2 * D + (tangent_has_z<S>() ? 1 : 0);
-  const auto coef = Method::template coefficients<S>(h, c, x);
-  const auto ct = params_as_tangent<S>(c);
-  const auto kt = coef_as_tangent<Method>(coef);
-  LaneTangent<D> w = seeded_tangent<S, Method>(x, c, seed);
-  const double t0 = x.t;
-  for (std::int64_t n = 0; n < steps; ++n) {
-    LaneState<D, Tangent> y = tangent_state<S>(x, w);
-    y.t = {t0 + static_cast<double>(n) * h, 0.0};
-    Method::template step<S, carry>(y, ct, kt);
-    for (int d = 0; d < D; ++d) {
-      x.q[d] = y.q[d].v, x.p[d] = y.p[d].v, x.kq[d] = y.kq[d].v;
-      w.v[d] = y.q[d].d, w.v[D + d] = y.p[d].d, w.dkq[d] = y.kq[d].d;
-    }
-    x.z = y.z.v, x.mu = y.mu.v, x.broken = y.broken.v;
-    x.lambda_numerator = y.lambda_numerator.v, x.lambda_denominator = y.lambda_denominator.v;
-    if constexpr (tangent_has_z<S>()) w.v[2 * D] = y.z.d;
-    double m = 0.0;
-    for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w.v[k]));
-    const double scale = fold_scale(m, w.folds);
-    for (int k = 0; k < N; ++k) w.v[k] = w.v[k] * scale;
-    for (int d = 0; d < D; ++d) w.dkq[d] = w.dkq[d] * scale;
-  }
-  x.t = t0 + static_cast<double>(steps) * h;
-  return lyapunov_value<D, tangent_has_z<S>()>(w.v, w.folds, log_norm0, steps, h);
+  TangentLane<S, Method, carry> lane(x, c, h, seed);
+  for (std::int64_t n = 0; n < steps; ++n) lane.step();
+  return lane.exponent(log_norm0);
 }
 
 }  // namespace cs

@@ -42,7 +42,7 @@ void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
     for (double& v : r)
       if (std::isnan(v)) v = -1.0;  // NaN never equals itself: a set would keep every copy
     if (!seen.insert(r).second) continue;
-    records.push_back(static_cast<double>(block.range.begin));
+    records.push_back(static_cast<double>(block.range.begin + static_cast<std::int64_t>(i)));
     records.push_back(value);
     records.push_back(0.0);
     records.insert(records.end(), point, point + n);
@@ -65,6 +65,12 @@ void add_recurrence_attractors(const RunPlan& plan, const std::vector<double>& r
     a.period = 0;
     a.point = cell_centre(r, keys.front());
     a.cells = std::move(keys);
+    // A lane on it: the first in grid order whose representative cell is one of its cells.
+    for (std::size_t offset : offsets)
+      if (std::binary_search(a.cells.begin(), a.cells.end(),
+                             static_cast<std::uint64_t>(records[offset + record_at])) &&
+          (a.source < 0 || records[offset] < static_cast<double>(a.source)))
+        a.source = static_cast<std::int64_t>(records[offset]);
     table.push_back(std::move(a));
   }
 }

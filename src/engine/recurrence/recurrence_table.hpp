@@ -18,7 +18,8 @@
 namespace cs {
 
 // Appends the block's candidates found by recurrences to `records`, `width` values each:
-// {block begin, value along `axis`, 0, the representative cell's centre (q.., p..), the record}.
+// {the lane's grid index, value along `axis`, 0, the representative cell's centre (q.., p..),
+// the record}.
 void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
                                std::vector<double>& records, std::size_t width,
                                const ContinuationAxis& axis);

@@ -1,0 +1,151 @@
+#include "engine/attractor_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "engine/attractor_table.hpp"
+#include "engine/measures/observe_plan.hpp"
+#include "engine/run_plan.hpp"
+
+namespace cs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool stroboscopic(const RunPlan& plan) { return plan.spec.measures.basin->period.has_value(); }
+
+// A fixed point of an autonomous scene, as the energy trap or the anchor test found it.
+bool table_fixed_point(const RunPlan& plan, const Attractor& a) {
+  return !stroboscopic(plan) && a.period == 1;
+}
+
+}  // namespace
+
+bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
+  for (const Attractor& a : table)
+    if (!table_fixed_point(plan, a) && a.period != kExitPeriod) return true;
+  return false;
+}
+
+OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
+  const RunSpec& spec = plan.spec;
+  const int n = 2 * plan.scene.dof;
+  OrbitRequest r;
+  r.params.resize(static_cast<std::size_t>(plan.grid.parameter_count()));
+  r.state.resize(static_cast<std::size_t>(plan.grid.variable_count()));
+  // The parameters and z of a lane that settled on it (the first in grid order of the block
+  // that found it first). A point or cycle of the table is on the attractor to the tolerance:
+  // q and p from it, half the run as a transient. An attractor found by recurrences has a
+  // cell's centre as its point, which need not be on it nor even in its basin (a cotangent
+  // lift's p = 0 is invariant, the cell's centre is off it): the lane's own start instead,
+  // with the whole run as the transient, in which that lane reached it.
+  plan.grid.point(a.source >= 0 ? a.source : 0, r.params.data(), r.state.data());
+  const bool from_lane = a.period == 0 && a.source >= 0;
+  if (!from_lane)
+    for (int k = 0; k < n; ++k)
+      r.state[static_cast<std::size_t>(k)] = a.point[static_cast<std::size_t>(k)];
+  if (!plan.lyapunov_seed.empty()) {  // the lyapunov measure's `vars`
+    r.seed = plan.lyapunov_seed;
+    r.log_norm0 = plan.lyapunov_log_norm0;
+  } else {  // all of q and p; q alone where q closes on itself (found by the kernel)
+    r.seed.assign(static_cast<std::size_t>(n) + 1, 0.0);
+    for (int k = 0; k < n; ++k) r.seed[static_cast<std::size_t>(k)] = 1.0;
+    r.log_norm0 = 0.5 * std::log(static_cast<double>(n));
+    r.seed_q_where_closed = true;
+  }
+  r.h = spec.h;
+  r.t_start = spec.t_start;
+  r.tolerance = plan.attractors.tolerance;
+  r.angle_period = plan.attractors.angle_period;
+  r.stroboscopic = stroboscopic(plan);
+  if (r.stroboscopic) {
+    // One sample per forcing period, over K periods, after the transient rounded down to whole
+    // periods (the point is on the section at t_start + k·period).
+    r.sample_steps = std::llround(*spec.measures.basin->period / spec.h);
+    r.transient_steps = (from_lane ? spec.steps : spec.steps / 2) / r.sample_steps * r.sample_steps;
+    r.window_steps = r.samples * r.sample_steps;
+  } else {
+    // The window is the run's length t_end − t_start; K samples spread over it (over one
+    // period instead where the orbit returns).
+    r.transient_steps = from_lane ? spec.steps : spec.steps / 2;
+    r.window_steps = spec.steps;
+    r.sample_steps = std::max<std::int64_t>(1, spec.steps / r.samples);
+  }
+  return r;
+}
+
+AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                           const AttractorOrbit* orbit) {
+  AttractorAnalysis out;
+  out.lyapunov = out.time_period = kNaN;
+  if (orbit == nullptr || !orbit->finite) {
+    // Described by the table: the point repeated (a fixed point; a lane that diverged on its
+    // way round cannot say more).
+    for (int k = 0; k < request.samples; ++k)
+      out.points.insert(out.points.end(), a.point.begin(), a.point.end());
+    if (table_fixed_point(plan, a))
+      out.kind = AttractorKind::fixed_point;
+    else if (a.period >= 1) {
+      out.kind = AttractorKind::periodic;
+      out.time_period = a.period * *plan.spec.measures.basin->period;
+    } else
+      out.kind = AttractorKind::quasiperiodic;
+    return out;
+  }
+  out.points = orbit->points;
+  out.lyapunov = orbit->lyapunov;
+  const double window = static_cast<double>(request.window_steps) * request.h;
+  const bool chaotic = orbit->lyapunov > kChaosEfolds / window;
+  if (request.stroboscopic) {
+    const double period = *plan.spec.measures.basin->period;
+    if (chaotic)
+      out.kind = AttractorKind::chaotic;
+    else if (a.period >= 1 || orbit->stroboscopic_return > 0) {
+      out.kind = AttractorKind::periodic;
+      out.time_period = (a.period >= 1 ? a.period : orbit->stroboscopic_return) * period;
+    } else
+      out.kind = AttractorKind::quasiperiodic;
+  } else if (table_fixed_point(plan, a) || !orbit->moved) {
+    out.kind = AttractorKind::fixed_point;
+  } else if (chaotic) {
+    out.kind = AttractorKind::chaotic;
+  } else if (!std::isnan(orbit->return_time)) {
+    out.kind = AttractorKind::periodic;
+    out.time_period = orbit->return_time;
+  } else {
+    out.kind = AttractorKind::quasiperiodic;
+  }
+  return out;
+}
+
+std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
+                                                  const std::vector<Attractor>& table,
+                                                  OrbitFn orbit) {
+  if (orbit == nullptr && needs_orbits(plan, table))
+    throw std::logic_error("analyse_attractors: an orbit is needed but no kernel was built");
+  std::vector<AttractorAnalysis> out(table.size());
+  // Attractors are independent (each orbit reads its request alone): the threads share them,
+  // and every result is the same bits whichever thread computed it.
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    if (table[i].period == kExitPeriod) {  // an exit, not an attractor: nothing to integrate
+      out[i].kind = AttractorKind::exit;
+      out[i].lyapunov = out[i].time_period = kNaN;
+      out[i].points.assign(static_cast<std::size_t>(kAttractorSamples * 2 * plan.scene.dof), kNaN);
+      continue;
+    }
+    const OrbitRequest request = orbit_request(plan, table[i]);
+    if (orbit == nullptr) {
+      out[i] = classify(plan, table[i], request, nullptr);
+      continue;
+    }
+    AttractorOrbit found;
+    orbit(request, found);
+    out[i] = classify(plan, table[i], request, &found);
+  }
+  return out;
+}
+
+}  // namespace cs

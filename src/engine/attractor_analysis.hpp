@@ -1,0 +1,85 @@
+// Each attractor of a basin map described (INTERFACE.md, "Attractors of every kind";
+// docs/basins.md, "What each attractor is"): its kind, its largest Lyapunov exponent, its period
+// in time units and samples along it, from one lane integrated from the table's point.
+//
+// The table is the same bits on every rank, and so is this pass: it reads the table and the spec
+// alone (rank 0 computes it; sweep.cpp). The orbit itself needs the scene's and method's
+// templates on dual numbers, so it runs in the run-time kernel (attractor_orbit.hpp, behind the
+// kernel's second entry point); this file asks for it and classifies what comes back.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace cs {
+
+struct RunPlan;
+struct Attractor;
+
+// `exit`: a stop's exit channel (measures.stop with basin: attractor_period −1), an outcome
+// of the map that is no attractor; its λ₁, period and samples are NaN.
+enum class AttractorKind : int { fixed_point = 0, periodic = 1, quasiperiodic = 2, chaotic = 3, exit = 4 };
+inline constexpr const char* kAttractorKindMeanings = "fixed_point periodic quasiperiodic chaotic exit";
+
+// Samples along each attractor (the file's `point` dimension).
+inline constexpr int kAttractorSamples = 256;
+// A tangent that grows by less than e^10 (≈ 2·10⁴) over the measuring window is not taken for
+// chaos: on a limit cycle or a torus the tangent stays bounded, but not constant (along a cycle
+// it follows the speed, transverse to it the contraction or a shear), and its finite-time
+// exponent is that bounded log-ratio over the window. Chaotic: λ₁ > kChaosEfolds / window.
+inline constexpr double kChaosEfolds = 10.0;
+
+// One lane's orbit, as the kernel is asked to integrate it (orbit_request: from the plan alone).
+struct OrbitRequest {
+  std::vector<double> params;  // the scene's, catalog order
+  std::vector<double> state;   // q.., p.., z, lambda: the attractor's point, the grid point's z
+  std::vector<double> seed;    // the tangent's start, q.., p.., z (tangent_lyapunov.hpp)
+  double log_norm0 = 0.0;      // ln ‖seed‖
+  // Start the tangent in q alone when the q motion is a system of its own (q' = K_p reads
+  // neither p nor z: a cotangent lift K = p·F(q)); found by the kernel on the first steps.
+  bool seed_q_where_closed = false;
+  double h = 0.0, t_start = 0.0;
+  std::int64_t transient_steps = 0, window_steps = 0;
+  std::int64_t sample_steps = 0;  // between samples: one forcing period when stroboscopic
+  int samples = kAttractorSamples;
+  bool stroboscopic = false;
+  double tolerance = 0.0;            // the basin's
+  std::vector<double> angle_period;  // q.., p..: 0 where not an angle
+};
+
+// What the kernel found along it.
+struct AttractorOrbit {
+  std::vector<double> points;   // samples × (q.., p..)
+  double lyapunov = 0.0;        // over the window
+  double return_time = 0.0;     // autonomous: first return, NaN if none
+  int stroboscopic_return = 0;  // first k > 0 with sample k within tolerance of sample 0
+  bool moved = false;           // some sample further than the tolerance from the first
+  bool finite = true;           // false: broke down or diverged
+};
+
+using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
+
+struct AttractorAnalysis {
+  AttractorKind kind = AttractorKind::fixed_point;
+  double lyapunov = 0.0;       // 1/time; NaN where not computed
+  double time_period = 0.0;    // time units; NaN unless periodic
+  std::vector<double> points;  // kAttractorSamples × (q.., p..)
+};
+
+// Does describing `table` need the kernel's orbits? Not where every attractor is a fixed point
+// of an autonomous scene (the energy trap's and the anchor test's): those are described from
+// the table alone, so such maps build no kernel.
+bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table);
+
+OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
+
+// From the orbit (`orbit` == nullptr: a fixed point described from the table alone).
+AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                           const AttractorOrbit* orbit);
+
+// Every attractor of the table; `orbit` may be null when !needs_orbits(plan, table).
+std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
+                                                  const std::vector<Attractor>& table,
+                                                  OrbitFn orbit);
+
+}  // namespace cs

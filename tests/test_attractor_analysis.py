@@ -1,0 +1,312 @@
+#!/usr/bin/python3
+"""Each attractor described (issue 23 item 2; docs/basins.md, "What each attractor is"):
+attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
+
+    test_attractor_analysis.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
+
+* Van der Pol at mu = 1 by cotangent lift (K = p1*q2 + p2*(mu*(1 - q1^2)*q2 - q1)): one
+  attractor, periodic, time period 6.6632868593... within rk4's period error (h L)^4/120 * T
+  (L the largest |Df| on the cycle) plus the parabolic interpolation of the return,
+  h^3 max|g'''| / (9 sqrt 3 |g'|); amplitude max|q1| over the samples 2.0086198609... within
+  |q1''| / 2 ((T/K + h) / 2)^2 (samples at the steps nearest k T / K); lambda_1 within
+  (ln(max|F|/min|F|) + ln 2) / W (the tangent aligns with the flow F; W the window), and
+  kind periodic needs it below the chaos threshold 10 / W.
+* The linear forced oscillator written autonomously (q3 the forcing's phase, an angle, by
+  cotangent lift): one periodic attractor, period 2 pi / Omega and amplitude
+  F / sqrt((w^2 - Omega^2)^2 + c^2 Omega^2), with the same bounds.
+* A torus that attracts (q1' = 1, q2' = golden mean, q3' = -q3, angles q1, q2): quasiperiodic,
+  lambda_1 = ln(sqrt(2/3)) / W exactly (the tangent's q3 part decays).
+* The damped double well written as K: two fixed points (kind 0, no period), the points at
+  (+-1, 0), lambda_1 = -gamma/2 (the linearisation's eigenvalues -gamma/2 +- i sqrt(2 -
+  gamma^2/4)) within ln(cond V) / W.
+* The chaotic forced Duffing (delta = 0.3, F = 0.5, Omega = 1.2) on its stroboscopic map: one
+  attractor, kind chaotic, lambda_1 against the DOP853 + variational reference (0.10514, sd
+  0.0062 over T = 10^4, tests/reference/duffing_lyapunov.py) within 4 sd scaled to the window
+  plus the tangent's alignment transient, 200 lambda / W.
+* The built-in double well's map builds no kernel: kind 0, lambda_1 NaN, the points its wells.
+* The new datasets are the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads (whole files).
+"""
+import math
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+binary, mpiexec, compare, work = sys.argv[1:5]
+os.makedirs(work, exist_ok=True)
+os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail else ""))
+    failures += not ok
+
+
+def run(spec_text, name, ranks=0, threads=1, env_extra=None):
+    spec = os.path.join(work, name + ".toml")
+    out = os.path.join(work, name + ".h5")
+    with open(spec, "w") as f:
+        f.write(spec_text)
+    command = [binary, "run", spec, "-o", out, "--force"]
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), **(env_extra or {}))
+    if ranks:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
+    result = subprocess.run(command, env=env, capture_output=True, text=True)
+    if result.returncode != 0:
+        check(f"{name} runs", False, result.stderr.strip()[-2000:])
+        return None, ""
+    return out, result.stdout + result.stderr
+
+
+def table(path):
+    with h5py.File(path, "r") as f:
+        kind = f["attractor_kind"]
+        check(f"{os.path.basename(path)}: attractor_kind's flags",
+              list(kind.attrs["flag_values"]) == [0, 1, 2, 3]
+              and kind.attrs["flag_meanings"] == "fixed_point periodic quasiperiodic chaotic"
+              and kind.dtype == np.int8 and f["attractor_points"].dims[1][0].name == "/point",
+              f"{kind.attrs.get('flag_values')} {kind.attrs.get('flag_meanings')} {kind.dtype}")
+        return {k: f[k][...] for k in ("attractor_kind", "attractor_lyapunov",
+                                       "attractor_time_period", "attractor_points",
+                                       "attractor_period")}
+
+
+def same_bits(reference, spec_text, name):
+    for ranks, threads in ((0, 2), (2, 1)):
+        other, _ = run(spec_text, f"{name}_{max(ranks, 1)}x{threads}", ranks=ranks, threads=threads)
+        if other:
+            same = subprocess.run([sys.executable, compare, reference, other], capture_output=True,
+                                  text=True)
+            check(f"{name} {max(ranks, 1)}x{threads} has the bits of 1x1", same.returncode == 0,
+                  same.stdout + same.stderr)
+
+
+def cycle_checks(name, t, points, F, jac, period, amplitude, h, window):
+    """A limit cycle's period, amplitude and lambda_1 against closed values, tolerances derived."""
+    T, lam = t["attractor_time_period"][0], t["attractor_lyapunov"][0]
+    K = points.shape[0]
+    check(f"{name}: one attractor, periodic", t["attractor_kind"].tolist() == [1],
+          f"{t['attractor_kind']}")
+    speed = np.linalg.norm(F(points), axis=1)
+    L = max(np.linalg.norm(jac(x), 2) for x in points)
+    f0 = F(points[:1])[0]
+    # g(t) = (x(t) - x0).v0 with v0 = h F(x0): g' = h F.F(x0) at the return and g''' = h
+    # x'''.F(x0), x''' = d/dt (Df F) by a difference along the flow.
+    def second(x):
+        return np.stack([jac(a) @ b for a, b in zip(x, F(x))])
+    e = 1e-5
+    third = (second(points + e * F(points)) - second(points)) / e
+    interpolation = h ** 3 * np.max(np.abs(third @ f0)) / (9 * math.sqrt(3) * (f0 @ f0))
+    tol_T = (h * L) ** 4 / 120 * period + interpolation
+    check(f"{name}: time period {period:.10f}", abs(T - period) <= tol_T,
+          f"{T:.10f}, error {abs(T - period):.2e}, tolerance {tol_T:.2e}")
+    q1 = points[:, 0]
+    curvature = np.max(np.abs(F(points)[:, 1]))  # |q1''| = |q2'| bounds it (q1' = q2)
+    tol_A = curvature / 2 * ((period / K + h) / 2) ** 2
+    check(f"{name}: amplitude {amplitude:.10f}", abs(np.max(np.abs(q1)) - amplitude) <= tol_A,
+          f"{np.max(np.abs(q1)):.8f}, error {abs(np.max(np.abs(q1)) - amplitude):.2e}, "
+          f"tolerance {tol_A:.2e}")
+    bound = (np.log(speed.max() / speed.min()) + np.log(2.0)) / window
+    check(f"{name}: |lambda_1| <= ln(max|F|/min|F|)/W + ln 2/W", abs(lam) <= bound,
+          f"{lam:.3e} vs {bound:.3e}")
+
+
+# ---- van der Pol ------------------------------------------------------------------------------
+VDP = """[scene]
+K = "p1*q2 + p2*(mu*(1 - q1^2)*q2 - q1)"
+label = "van_der_pol"
+mu = 1.0
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 500.0
+[grid]
+q1_0 = { from = -3.0, to = 3.0, n = 32 }
+q2_0 = { from = -3.0, to = 3.0, n = 32 }
+[measures]
+basin = { locate = 300 }
+"""
+vdp, _ = run(VDP, "vdp_1x1")
+if vdp:
+    t = table(vdp)
+    pts = t["attractor_points"][0]
+    check("van der Pol: the samples stay on p = 0", np.all(pts[:, 2:] == 0.0), f"{pts[:3]}")
+    q = pts[:, :2]
+
+    def f_vdp(x):
+        return np.stack([x[:, 1], (1 - x[:, 0] ** 2) * x[:, 1] - x[:, 0]], axis=1)
+
+    def j_vdp(x):
+        return np.array([[0.0, 1.0], [-2 * x[0] * x[1] - 1, 1 - x[0] ** 2]])
+
+    cycle_checks("van der Pol", t, q, f_vdp, j_vdp, 6.6632868593231301, 2.0086198608,
+                 0.01, 500.0)
+    same_bits(vdp, VDP, "vdp")
+
+# ---- the linear forced oscillator, written autonomously ----------------------------------------
+# q1'' + c q1' + w^2 q1 = F cos(q3), q3' = Omega: an angle (period 2 pi), by cotangent lift.
+W_, C_, F_, OMEGA_ = 1.0, 0.4, 0.5, 1.5
+FORCED = f"""[scene]
+K = "p1*q2 + p2*(-w^2*q1 - c*q2 + F*cos(q3)) + p3*Omega"
+label = "forced_linear_autonomous"
+w = {W_!r}
+c = {C_!r}
+F = {F_!r}
+Omega = {OMEGA_!r}
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 200.0
+[grid]
+q1_0 = {{ from = -1.0, to = 1.0, n = 16 }}
+q2_0 = {{ from = -1.0, to = 1.0, n = 16 }}
+[measures]
+basin = {{ locate = 300, cell_size = 0.25, angles = {{ q3 = 6.283185307179586 }} }}
+"""
+forced, _ = run(FORCED, "forced_1x1")
+if forced:
+    t = table(forced)
+    pts = t["attractor_points"][0][:, :3]
+
+    def f_forced(x):
+        return np.stack([x[:, 1], -W_ ** 2 * x[:, 0] - C_ * x[:, 1] + F_ * np.cos(x[:, 2]),
+                         np.full(len(x), OMEGA_)], axis=1)
+
+    def j_forced(x):
+        return np.array([[0.0, 1.0, 0.0], [-W_ ** 2, -C_, -F_ * np.sin(x[2])], [0.0, 0.0, 0.0]])
+
+    amplitude = F_ / math.sqrt((W_ ** 2 - OMEGA_ ** 2) ** 2 + (C_ * OMEGA_) ** 2)
+    cycle_checks("forced oscillator (autonomous)", t, pts, f_forced, j_forced,
+                 2 * math.pi / OMEGA_, amplitude, 0.01, 200.0)
+
+# ---- a quasi-periodic attractor: an irrational winding on a torus that attracts ---------------
+# q1' = 1, q2' = w (golden mean; both angles of period 2 pi), q3' = -q3: every orbit tends to the
+# torus q3 = 0 and winds on it without closing (within 4 tolerances, the closest return of the
+# golden winding needs ~150 windings, t ~ 1000 > the window). The tangent starts as (1, 1, 1) in q:
+# its q1, q2 parts stay, its q3 part decays as e^-t, so lambda_1 = ln(sqrt 2 / sqrt 3) / W to
+# within e^-W (rk4's own factor per step only changes how fast it decays).
+TORUS = """[scene]
+K = "p1 + p2*w + p3*(-q3)"
+label = "torus"
+w = 1.618033988749895
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 400.0
+[grid]
+q1_0 = { from = 0.0, to = 3.0, n = 4 }
+q3_0 = { from = -1.0, to = 1.0, n = 4 }
+[measures]
+basin = { locate = 300, cell_size = 0.5, angles = { q1 = 6.283185307179586, q2 = 6.283185307179586 } }
+"""
+torus, _ = run(TORUS, "torus")
+if torus:
+    t = table(torus)
+    expected = math.log(math.sqrt(2.0 / 3.0)) / 400.0
+    check("torus: one attractor, quasiperiodic, no period",
+          t["attractor_kind"].tolist() == [2] and np.isnan(t["attractor_time_period"][0]),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    check("torus: lambda_1 = ln(sqrt(2/3)) / W", abs(t["attractor_lyapunov"][0] - expected) <= 1e-12,
+          f"{t['attractor_lyapunov'][0]!r} vs {expected!r}")
+    check("torus: the samples lie on q3 = 0, p = 0",
+          np.all(np.abs(t["attractor_points"][0][:, 2]) <= 1e-12)
+          and np.all(t["attractor_points"][0][:, 3:] == 0.0), "")
+
+# ---- fixed points: the damped double well written as K -------------------------------------------
+GAMMA = 0.1
+WELL = f"""[scene]
+K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"
+label = "double_well_as_k"
+a = 1.0
+gamma = {GAMMA!r}
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = 100.0
+[grid]
+q_0 = {{ from = -3.0, to = 3.0, n = 32 }}
+p_0 = {{ from = -3.0, to = 3.0, n = 32 }}
+[measures]
+basin = {{}}
+"""
+well, _ = run(WELL, "well_k")
+if well:
+    t = table(well)
+    check("double well as K: two fixed points, no period",
+          t["attractor_kind"].tolist() == [0, 0] and np.all(np.isnan(t["attractor_time_period"])),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    pts = t["attractor_points"]
+    check("double well as K: the samples are the minima (+-1, 0) to the trap's point",
+          np.allclose(pts[:, :, 0], [[-1.0], [1.0]], atol=1e-9) and np.allclose(pts[:, :, 1], 0.0, atol=1e-9),
+          f"{pts[:, 0]}")
+    # At a minimum: A = [[0, 1], [-V'', -gamma]], V'' = 4 a^2; lambda_1 = -gamma/2 to within
+    # ln(cond V)/W (V: A's eigenvectors), W = 100.
+    A = np.array([[0.0, 1.0], [-4.0, -GAMMA]])
+    bound = np.log(np.linalg.cond(np.linalg.eig(A)[1])) / 100.0
+    check("double well as K: lambda_1 = -gamma/2 within ln(cond V)/W",
+          np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= bound),
+          f"{t['attractor_lyapunov']} vs {-GAMMA / 2} +- {bound:.4f}")
+
+# ---- the built-in double well: no kernel built, fixed points from the table -----------------------
+BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"\nlabel = "double_well_as_k"',
+                       'name = "double_well"').replace('"rk4"', '"hybrid_leapfrog"')
+fresh = os.path.join(work, "no_kernel_cache")
+os.makedirs(fresh, exist_ok=True)
+builtin, log = run(BUILTIN, "well_builtin", env_extra={"CONTACTSWEEP_CACHE": fresh})
+if builtin:
+    t = table(builtin)
+    built = [n for n in os.listdir(fresh) if n.startswith("kernel-")]
+    check("built-in double well: no kernel built", not built and "built the kernel" not in log,
+          f"{built}")
+    check("built-in double well: fixed points, lambda_1 and period NaN, points the wells",
+          t["attractor_kind"].tolist() == [0, 0] and np.all(np.isnan(t["attractor_lyapunov"]))
+          and np.all(np.isnan(t["attractor_time_period"]))
+          and np.allclose(t["attractor_points"][:, :, 0], [[-1.0], [1.0]]),
+          f"{t['attractor_kind']} {t['attractor_lyapunov']} {t['attractor_points'][:, 0]}")
+
+# ---- the chaotic forced Duffing on its stroboscopic map ---------------------------------------
+# Reference: tests/reference/duffing_lyapunov.py (scipy DOP853 + variational equations), 8
+# trajectories, T = 10^4 each: mean 0.10514, standard deviation 0.0062.
+REFERENCE, REFERENCE_SD, REFERENCE_T = 0.10514, 0.0062, 1e4
+PERIOD = 2 * math.pi / 1.2
+DUFFING = f"""[scene]
+K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
+label = "forced_duffing_chaotic"
+delta = 0.3
+F = 0.5
+Omega = 1.2
+[integrator]
+method = "contact_splitting4"
+h = {PERIOD / 200!r}
+t_end = {400 * PERIOD!r}
+[grid]
+q_0 = {{ from = -2.0, to = 2.0, n = 32 }}
+p_0 = {{ from = -2.0, to = 2.0, n = 32 }}
+[measures]
+basin = {{ period = {PERIOD!r}, cell_size = 0.3, recurrences = 30, locate = 100 }}
+"""
+chaos, _ = run(DUFFING, "duffing_1x1")
+if chaos:
+    t = table(chaos)
+    window = 256 * PERIOD
+    lam = t["attractor_lyapunov"]
+    # The finite-time exponent over W scatters as sd sqrt(T_ref / W); the fresh tangent's
+    # alignment costs up to 200 lambda / W (as in test_lyapunov.py).
+    tolerance = 4 * REFERENCE_SD * math.sqrt(REFERENCE_T / window) + 200 * REFERENCE / window
+    check("chaotic Duffing: one attractor, kind chaotic, no period",
+          t["attractor_kind"].tolist() == [3] and np.isnan(t["attractor_time_period"][0]),
+          f"{t['attractor_kind']} {t['attractor_time_period']}")
+    check("chaotic Duffing: lambda_1 vs the DOP853 reference",
+          abs(lam[0] - REFERENCE) <= tolerance,
+          f"{lam[0]:.5f} vs {REFERENCE} (tolerance {tolerance:.4f})")
+    check("chaotic Duffing: 256 distinct section points",
+          len(np.unique(t["attractor_points"][0][:, 0])) == 256, "")
+    same_bits(chaos, DUFFING, "duffing")
+
+print("FAILED" if failures else "all passed")
+sys.exit(1 if failures else 0)
