@@ -81,7 +81,7 @@ if as_k:
     opened = subprocess.run([sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                           "test_xarray_open.py"),
                              os.path.join(work, "dw_k_over_a.h5"), "--dims", "a=5", "q_0=48",
-                             "p_0=48", "attractor=2"], capture_output=True, text=True)
+                             "p_0=48", "attractor=2", "point=256", "var=2"], capture_output=True, text=True)
     check("double well as K over a: the file with branch_q, branch_p opens in xarray",
           opened.returncode == 0, opened.stdout[-800:] + opened.stderr[-800:])
 
