@@ -34,6 +34,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import launch  # noqa: E402
+
 binary, mpiexec, compare, work = sys.argv[1:5]
 os.makedirs(work, exist_ok=True)
 os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
@@ -47,16 +50,8 @@ def check(name, ok, detail=""):
 
 
 def run(spec_text, name, ranks=0, threads=1, env_extra=None):
-    spec = os.path.join(work, name + ".toml")
-    out = os.path.join(work, name + ".h5")
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    command = [binary, "run", spec, "-o", out, "--force"]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads), **(env_extra or {}))
-    if ranks:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-    result = subprocess.run(command, env=env, capture_output=True, text=True)
+    out, result = launch(binary, mpiexec, work, spec_text, name, ranks=ranks, threads=threads,
+                         env_extra=env_extra, quiet=False)
     if result.returncode != 0:
         check(f"{name} runs", False, result.stderr.strip()[-2000:])
         return None, ""

@@ -26,6 +26,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import launch  # noqa: E402
+
 binary, mpiexec, compare, work = sys.argv[1:5]
 os.makedirs(work, exist_ok=True)
 os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
@@ -39,18 +42,10 @@ def check(name, ok, detail=""):
 
 
 def run(spec_text, name, ranks=0, threads=1, expect=0):
-    spec = os.path.join(work, name + ".toml")
     out = os.path.join(work, name + ".h5")
     if os.path.exists(out):
         os.remove(out)
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    command = [binary, "run", spec, "-o", out, "--force", "--quiet"]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    if ranks:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-    result = subprocess.run(command, env=env, capture_output=True, text=True)
+    out, result = launch(binary, mpiexec, work, spec_text, name, ranks=ranks, threads=threads)
     if result.returncode != expect:
         check(f"{name} exits {expect}", False, result.stderr.strip()[-2000:])
         return None, result.stderr

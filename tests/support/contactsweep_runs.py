@@ -6,6 +6,22 @@ import subprocess
 import h5py
 
 
+def launch(binary, mpiexec, work, spec_text, name, *extra, ranks=0, threads=1, env_extra=None,
+           quiet=True):
+    """Writes the spec as WORK/NAME.toml and runs it into WORK/NAME.h5 (under mpiexec, as root
+    if need be, for ranks > 0); returns the output's path and the finished process."""
+    spec = os.path.join(work, name + ".toml")
+    out = os.path.join(work, name + ".h5")
+    with open(spec, "w") as f:
+        f.write(spec_text)
+    command = [binary, "run", spec, "-o", out, "--force", *(["--quiet"] if quiet else []), *extra]
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), **(env_extra or {}))
+    if ranks:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
+    return out, subprocess.run(command, env=env, capture_output=True, text=True)
+
+
 class Runs:
     def __init__(self, binary, mpiexec, work):
         self.binary, self.mpiexec, self.work = binary, mpiexec, work
@@ -18,16 +34,8 @@ class Runs:
         self.failures += not ok
 
     def run(self, spec_text, name, *extra, ranks=0, threads=1):
-        spec = os.path.join(self.work, name + ".toml")
-        out = os.path.join(self.work, name + ".h5")
-        with open(spec, "w") as f:
-            f.write(spec_text)
-        command = [self.binary, "run", spec, "-o", out, "--force", "--quiet", *extra]
-        env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-        if ranks:
-            env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-            command = [self.mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-        result = subprocess.run(command, env=env, capture_output=True, text=True)
+        out, result = launch(self.binary, self.mpiexec, self.work, spec_text, name, *extra,
+                             ranks=ranks, threads=threads)
         if result.returncode != 0:
             self.check(f"{name} runs", False, result.stderr.strip()[-2000:])
             return None
