@@ -35,18 +35,11 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import launch  # noqa: E402
+from contactsweep_runs import Runs, launch  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail else ""))
-    failures += not ok
+runs = Runs(binary, mpiexec, work, details=True)  # makes work/, the kernel cache in it
+check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1, env_extra=None):
@@ -303,5 +296,5 @@ if chaos:
           len(np.unique(t["attractor_points"][0][:, 0])) == 256, "")
     same_bits(chaos, DUFFING, "duffing")
 
-print("FAILED" if failures else "all passed")
-sys.exit(1 if failures else 0)
+print("FAILED" if runs.failures else "all passed")
+sys.exit(1 if runs.failures else 0)

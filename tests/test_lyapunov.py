@@ -27,18 +27,11 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import launch  # noqa: E402
+from contactsweep_runs import Runs, launch  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail else ""))
-    failures += not ok
+runs = Runs(binary, mpiexec, work, details=True)  # makes work/, the kernel cache in it
+check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1, expect=0):
@@ -251,5 +244,5 @@ for label, value, key in [
     check(f"bad input ({label}): exit 2 naming {key}, nothing written",
           out is not None and key in err and not os.path.exists(out), err.strip())
 
-print(f"{failures} failure(s)")
-sys.exit(1 if failures else 0)
+print(f"{runs.failures} failure(s)")
+sys.exit(1 if runs.failures else 0)

@@ -25,18 +25,11 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import launch  # noqa: E402
+from contactsweep_runs import Runs, launch  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
-    failures += not ok
+runs = Runs(binary, mpiexec, work)  # makes work/, the kernel cache in it
+check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1):
@@ -254,5 +247,5 @@ if hh is not None:
             check(f"same bits on {max(ranks, 1)} rank(s) x {threads} thread(s)", r.returncode == 0,
                   r.stdout + r.stderr)
 
-print(f"{failures} failed")
-sys.exit(1 if failures else 0)
+print(f"{runs.failures} failed")
+sys.exit(1 if runs.failures else 0)

@@ -23,14 +23,16 @@ def launch(binary, mpiexec, work, spec_text, name, *extra, ranks=0, threads=1, e
 
 
 class Runs:
-    def __init__(self, binary, mpiexec, work):
+    def __init__(self, binary, mpiexec, work, details=False):
         self.binary, self.mpiexec, self.work = binary, mpiexec, work
+        self.details = details  # print a check's detail when it passes too (measured values)
         self.failures = 0
         os.makedirs(work, exist_ok=True)
         os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
 
     def check(self, name, ok, detail=""):
-        print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
+        shown = detail and (self.details or not ok)
+        print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if shown else ""))
         self.failures += not ok
 
     def run(self, spec_text, name, *extra, ranks=0, threads=1):
