@@ -55,8 +55,9 @@ def table(path):
     with h5py.File(path, "r") as f:
         kind = f["attractor_kind"]
         check(f"{os.path.basename(path)}: attractor_kind's flags",
-              list(kind.attrs["flag_values"]) == [0, 1, 2, 3]
-              and kind.attrs["flag_meanings"] == "fixed_point periodic quasiperiodic chaotic"
+              # the contract's four kinds, and 4 for a stop's exits (not an attractor)
+              list(kind.attrs["flag_values"]) == [0, 1, 2, 3, 4]
+              and kind.attrs["flag_meanings"] == "fixed_point periodic quasiperiodic chaotic exit"
               and kind.dtype == np.int8 and f["attractor_points"].dims[1][0].name == "/point",
               f"{kind.attrs.get('flag_values')} {kind.attrs.get('flag_meanings')} {kind.dtype}")
         return {k: f[k][...] for k in ("attractor_kind", "attractor_lyapunov",
