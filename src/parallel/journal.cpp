@@ -278,7 +278,8 @@ void Journal::save(const BlockResults& block) const {
     auto n = static_cast<std::int64_t>(col.size());
     put(&n, sizeof n);
   }
-  for (const auto& col : block.columns) put(col.data(), col.size() * sizeof(double));
+  for (const auto& col : block.columns)
+    if (!col.empty()) put(col.data(), col.size() * sizeof(double));
   std::uint64_t sum = checksum(bytes.data(), bytes.size());
   put(&sum, sizeof sum);
   dir().write_atomically(block_name(block.range.begin), bytes);
@@ -321,6 +322,7 @@ bool Journal::load(BlockResults& block) const {
   if (bytes.size() != expected) return false;
   for (std::size_t k = 0; k < block.columns.size(); ++k) block.columns[k].resize(lengths[k]);
   for (auto& col : block.columns) {
+    if (col.empty()) continue;  // a growing column may be empty: its data() may be null
     std::memcpy(col.data(), p, col.size() * sizeof(double));
     p += col.size() * sizeof(double);
   }
