@@ -24,6 +24,8 @@ if [[ $bin == build/contactsweep && ! -x $bin ]]; then
 fi
 py=/usr/bin/python3  # Debian's interpreter has numpy, xarray, h5netcdf, matplotlib
 mkdir -p out/stability out/work_precision "$figures"
+source jobs/machine_facts.sh  # the charts' ns/step are timings
+trap machine_load_at_end EXIT
 
 "$py" -B src/post/stability_maps.py --bin "$bin" --out out/stability "${quick[@]}" \
   | tee out/stability/stability_maps.log

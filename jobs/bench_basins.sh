@@ -15,7 +15,8 @@ repeats=${1:-5} ranks=${2:-2} threads=${3:-1}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=$threads
 [[ -x build/contactsweep ]] || { cmake --preset release && cmake --build --preset release; }
 out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+source jobs/machine_facts.sh
+trap 'rm -rf "$out"; machine_load_at_end' EXIT
 traj_steps=$((512 * 512 * 10000))
 
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }

@@ -12,8 +12,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 repeats=${1:-5} filter=${2:-.}
 [[ -x build/tests/bench/kernel_bench ]] || { cmake --preset release && cmake --build --preset release --target kernel_bench; }
 json=$(mktemp)
-trap 'rm -f "$json"' EXIT
-grep -m1 "model name" /proc/cpuinfo | sed 's/.*: /CPU: /'
+source jobs/machine_facts.sh
+trap 'rm -f "$json"; machine_load_at_end' EXIT
 build/tests/bench/kernel_bench --benchmark_filter="$filter" --benchmark_repetitions="$repeats" \
   --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 --benchmark_format=json \
   >"$json" 2>/dev/null

@@ -19,7 +19,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 repeats=${1:-7} n=${2:-256} threads=${3:-1}
 export OMP_NUM_THREADS=$threads
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source jobs/machine_facts.sh
+trap 'rm -rf "$work"; machine_load_at_end' EXIT
 export CONTACTSWEEP_CACHE=$work/cache
 
 spec() {  # spec NAME SCENE-LINES MEASURE-LINES [T_END]
