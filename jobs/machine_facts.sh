@@ -12,6 +12,6 @@ machine_isa() {
   elif [[ " $flags " == *" avx2 "* ]]; then echo "AVX2"
   else echo "SSE2"; fi
 }
-echo "CPU: $(cpu_field 'model name') (vendor $(cpu_field vendor_id), family $(cpu_field 'cpu family'), model $(cpu_field model); widest ISA $(machine_isa)); cores usable: $(nproc)"
+echo "CPU: $(cpu_field 'model name') (vendor $(cpu_field vendor_id), family $(cpu_field 'cpu family'), model $(cpu_field model); widest ISA $(machine_isa)); cores usable: $(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc) (this process's affinity)"
 echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 machine_load_at_end() { echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"; }
