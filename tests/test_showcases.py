@@ -18,6 +18,7 @@ a closed form or an independent computation, on the showcase specs made small.
   of the same system (sweeps/basins_forced_duffing.toml) does, attractors matched by their well
   (the sign of q over their samples, no self-reference); both of its attractors are periodic with
   the forcing's period 2 pi / Omega = 5 to within the return's interpolation, O(h^3) = 1.25e-4.
+* src/post/plot_showcases.py draws these runs and reports the same agreement.
 * Van der Pol's limit cycle and the chaotic forced Duffing (sweeps/basins_van_der_pol.toml,
   sweeps/basins_forced_duffing_chaos.toml, made small): 3 ranks x 1 thread give the bits of
   1 x 1 (1 x 2 and 2 x 1 are in test_attractor_analysis.py and test_recurrence_runs.py).
@@ -73,7 +74,7 @@ def run(spec_text, name, ranks=0, threads=1):
 LITERATURE, SIGMA_W, W = 0.9056, 0.0049, 1000.0
 lorenz = run(spec("basins_lorenz", **{"grid.q1_0": "{ from = -20.0, to = 20.0, n = 8 }",
                                       "grid.q2_0": "{ from = -25.0, to = 25.0, n = 8 }",
-                                      "integrator.t_end": repr(W)}), "lorenz")
+                                      "integrator.t_end": repr(W)}), "basins_lorenz")
 if lorenz:
     with h5py.File(lorenz, "r") as f:
         basin, kind, lam = f["basin"][...], f["attractor_kind"][...], f["attractor_lyapunov"][...]
@@ -93,9 +94,9 @@ if lorenz:
 
 # ---- the forced Duffing, stroboscopic and autonomous ---------------------------------------------
 PLANE = "{ from = -2.0, to = 2.0, n = 24 }"
-strobe = run(spec("basins_forced_duffing", **{"grid.q_0": PLANE, "grid.p_0": PLANE}), "strobe")
+strobe = run(spec("basins_forced_duffing", **{"grid.q_0": PLANE, "grid.p_0": PLANE}), "basins_forced_duffing")
 auto = run(spec("basins_forced_duffing_autonomous", **{"grid.q1_0": PLANE, "grid.p1_0": PLANE}),
-           "autonomous")
+           "basins_forced_duffing_autonomous")
 
 
 def wells(f):
@@ -125,7 +126,7 @@ SMALL = {"basins_van_der_pol": {"grid.q1_0": "{ from = -4.0, to = 4.0, n = 32 }"
                                          "grid.p_0": "{ from = -2.0, to = 2.0, n = 32 }"}}
 for name, overrides in SMALL.items():
     text = spec(name, **overrides)
-    one = run(text, f"{name}_1x1")
+    one = run(text, name)  # 1 x 1, under the name plot_showcases.py reads
     three = run(text, f"{name}_3x1", ranks=3)
     if one and three:
         with h5py.File(one, "r") as f:
@@ -134,6 +135,18 @@ for name, overrides in SMALL.items():
               kinds == ([1] if "van_der_pol" in name else [1, 3]), f"kinds {kinds}")
         same = subprocess.run([sys.executable, compare, one, three], capture_output=True, text=True)
         check(f"{name}: 3x1 has the bits of 1x1", same.returncode == 0, same.stdout + same.stderr)
+
+# ---- src/post/plot_showcases.py on these runs (the orbit diagram is not run here: skipped) ---------
+post = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "post", "plot_showcases.py")
+figures = os.path.join(work, "figures")
+drawn = subprocess.run([sys.executable, post, "--in", work, "--out", figures], capture_output=True,
+                       text=True)
+pngs = sorted(n for n in os.listdir(figures) if n.endswith(".png")) if os.path.isdir(figures) else []
+check("plot_showcases.py draws the four runs and skips the fifth",
+      drawn.returncode == 0 and len(pngs) == 4 and "orbit_diagram_duffing: skipped" in drawn.stdout,
+      f"exit {drawn.returncode}, {pngs}\n{drawn.stdout}{drawn.stderr[-2000:]}")
+check("plot_showcases.py counts the agreeing cells as this test does",
+      "agree on 576 of 576 cells" in drawn.stdout, drawn.stdout)
 
 print("FAILED" if runs.failures else "all passed")
 sys.exit(1 if runs.failures else 0)
