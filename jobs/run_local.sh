@@ -45,4 +45,13 @@ for name in "${basins[@]}"; do files+=("out/$name.h5"); done
 /usr/bin/python3 src/post/plot_basins.py out/figures "${files[@]}"
 run escape_henon_heiles  # exit basins and escape times (measures.stop, docs/observables.md)
 /usr/bin/python3 src/post/plot_escape.py out/figures out/escape_henon_heiles.h5
+
+# Attractors of every kind (docs/showcases.md): a limit cycle, the forced Duffing written
+# autonomously (compared with basins_forced_duffing above), a strange attractor beside a periodic
+# orbit, Lorenz, an orbit diagram. Wall time on 2 shared cores, kernels
+# cached: ~6, ~32, ~7, ~4, ~3 s.
+showcases=(basins_van_der_pol basins_forced_duffing_autonomous basins_forced_duffing_chaos
+           basins_lorenz orbit_diagram_duffing)
+for name in "${showcases[@]}"; do run "$name"; done
+/usr/bin/python3 src/post/plot_showcases.py --in out --out out/figures
 echo "done: results in out/, figures in out/figures/"
