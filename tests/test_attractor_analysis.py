@@ -23,7 +23,8 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
   attractor, kind chaotic, lambda_1 against the DOP853 + variational reference (0.10514, sd
   0.0062 over T = 10^4, tests/reference/duffing_lyapunov.py) within 4 sd scaled to the window
   plus the tangent's alignment transient, 200 lambda / W.
-* The built-in double well's map builds no kernel: kind 0, lambda_1 NaN, the points its wells.
+* The built-in double well's map builds no kernel: kind 0, the points its wells, lambda_1 the
+  linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to 1e-8.
 * The new datasets are the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads (whole files).
 """
 import math
@@ -252,8 +253,9 @@ if builtin:
     built = [n for n in os.listdir(fresh) if n.startswith("kernel-")]
     check("built-in double well: no kernel built", not built and "built the kernel" not in log,
           f"{built}")
-    check("built-in double well: fixed points, lambda_1 and period NaN, points the wells",
-          t["attractor_kind"].tolist() == [0, 0] and np.all(np.isnan(t["attractor_lyapunov"]))
+    check("built-in double well: fixed points, lambda_1 = -gamma/2 exactly, period NaN, points the wells",
+          t["attractor_kind"].tolist() == [0, 0]
+          and np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= 1e-8)
           and np.all(np.isnan(t["attractor_time_period"]))
           and np.allclose(t["attractor_points"][:, :, 0], [[-1.0], [1.0]]),
           f"{t['attractor_kind']} {t['attractor_lyapunov']} {t['attractor_points'][:, 0]}")

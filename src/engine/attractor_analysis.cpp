@@ -21,6 +21,10 @@ bool table_fixed_point(const RunPlan& plan, const Attractor& a) {
   return !stroboscopic(plan) && a.period == 1;
 }
 
+// What the table and the orbit say (classify adds the exact λ₁ of fixed points).
+AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                            const AttractorOrbit* orbit);
+
 }  // namespace
 
 bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
@@ -77,7 +81,17 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
 }
 
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                           const AttractorOrbit* orbit) {
+                           const AttractorOrbit* orbit, FixedPointExponentFn fixed) {
+  AttractorAnalysis out = described(plan, a, request, orbit);
+  if (fixed != nullptr && table_fixed_point(plan, a))
+    out.lyapunov = fixed(plan, request.params, request.state);
+  return out;
+}
+
+namespace {
+
+AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                            const AttractorOrbit* orbit) {
   AttractorAnalysis out;
   out.lyapunov = out.time_period = kNaN;
   if (orbit == nullptr || !orbit->finite) {
@@ -120,9 +134,11 @@ AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitR
   return out;
 }
 
+}  // namespace
+
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
                                                   const std::vector<Attractor>& table,
-                                                  OrbitFn orbit) {
+                                                  OrbitFn orbit, FixedPointExponentFn fixed) {
   if (orbit == nullptr && needs_orbits(plan, table))
     throw std::logic_error("analyse_attractors: an orbit is needed but no kernel was built");
   std::vector<AttractorAnalysis> out(table.size());
@@ -138,12 +154,12 @@ std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
     }
     const OrbitRequest request = orbit_request(plan, table[i]);
     if (orbit == nullptr) {
-      out[i] = classify(plan, table[i], request, nullptr);
+      out[i] = classify(plan, table[i], request, nullptr, fixed);
       continue;
     }
     AttractorOrbit found;
     orbit(request, found);
-    out[i] = classify(plan, table[i], request, &found);
+    out[i] = classify(plan, table[i], request, &found, fixed);
   }
   return out;
 }

@@ -58,6 +58,10 @@ struct AttractorOrbit {
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
+// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp): built-in
+// scenes only, whose types the program holds.
+using FixedPointExponentFn = double (*)(const RunPlan&, const std::vector<double>& params,
+                                        const std::vector<double>& state);
 
 struct AttractorAnalysis {
   AttractorKind kind = AttractorKind::fixed_point;
@@ -73,13 +77,15 @@ bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table);
 
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
 
-// From the orbit (`orbit` == nullptr: a fixed point described from the table alone).
+// From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
+// point of the table takes its λ₁ from `fixed` where given (exact), else from the orbit.
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                           const AttractorOrbit* orbit);
+                           const AttractorOrbit* orbit, FixedPointExponentFn fixed = nullptr);
 
 // Every attractor of the table; `orbit` may be null when !needs_orbits(plan, table).
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
                                                   const std::vector<Attractor>& table,
-                                                  OrbitFn orbit);
+                                                  OrbitFn orbit,
+                                                  FixedPointExponentFn fixed = nullptr);
 
 }  // namespace cs

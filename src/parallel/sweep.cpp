@@ -17,6 +17,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/fixed_point_exponent.hpp"
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
 #include "io/log.hpp"
@@ -346,7 +347,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
       kernel = custom_kernel(plan, options, comm);
     const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
-      if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit);
+      // A built-in scene's fixed points get their exact λ₁ (the program holds its type).
+      const FixedPointExponentFn fixed = plan.spec.custom ? nullptr : &fixed_point_exponent;
+      if (c.rank == 0)
+        basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit, fixed);
     });
     if (kernel.orbit != nullptr && !options.quiet && c.rank == 0)
       log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),

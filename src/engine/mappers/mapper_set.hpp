@@ -31,7 +31,7 @@ class MapperSet {
         strobe_(plan, mapping(plan) && !autonomous(plan), clock),
         recur_(plan, mapping(plan) && plan.recurrence.enabled, clock) {}
 
-  void clear(int slot) {
+  [[gnu::always_inline]] void clear(int slot) {
     each([&](auto& m) { m.clear(slot); });
   }
 
@@ -69,7 +69,7 @@ class MapperSet {
     if (strobe_.active()) strobe_.arm(slot, x, c, s);
   }
 
-  void disarm(int slot) {
+  [[gnu::always_inline]] void disarm(int slot) {
     each([&](auto& m) { m.disarm(slot); });
   }
 
@@ -88,11 +88,11 @@ class MapperSet {
     if (recur_.active()) recur_.screen(t, attention);
   }
 
-  void move(int from, int to) {
+  [[gnu::always_inline]] void move(int from, int to) {
     each([&](auto& m) { m.move(from, to); });
   }
 
-  std::int64_t next_look(std::int64_t n) const {
+  [[gnu::always_inline]] std::int64_t next_look(std::int64_t n) const {
     std::int64_t next = std::numeric_limits<std::int64_t>::max();
     each([&](const auto& m) { next = std::min(next, m.next_look(n)); });
     return next;
@@ -120,14 +120,14 @@ class MapperSet {
 
   // The active mappers, in order.
   template <class F>
-  void each(F&& f) {
+  [[gnu::always_inline]] void each(F&& f) {
     if (anchors_.active()) f(anchors_);
     if (trap_.active()) f(trap_);
     if (strobe_.active()) f(strobe_);
     if (recur_.active()) f(recur_);
   }
   template <class F>
-  void each(F&& f) const {
+  [[gnu::always_inline]] void each(F&& f) const {
     if (anchors_.active()) f(anchors_);
     if (trap_.active()) f(trap_);
     if (strobe_.active()) f(strobe_);

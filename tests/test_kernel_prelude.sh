@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# A kernel of K compiles against the precompiled prelude (kernel_build/kernel_prelude.hpp.gch):
+# the compiler, wrapped to print its include tree (-H), must mark the .gch as used ("! path"),
+# not as tried and rejected ("x path": flags, macros or compiler differ from the build's), and
+# must not read the prelude's text instead. A drift between the build's precompile command
+# (src/CMakeLists.txt) and the kernels' own (kernel_cache.cpp) fails here, not silently slow.
+#   test_kernel_prelude.sh CONTACTSWEEP CXX
+set -uo pipefail
+bin=$(realpath "$1") cxx=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+cat >cxx <<WRAP
+#!/bin/sh
+exec "$cxx" -H "\$@" 2>>"$work/tree.txt"
+WRAP
+chmod 700 cxx
+cat >k.toml <<'SPEC'
+[scene]
+K = "p^2/2 + (q^2 - a^2)^2/2 - gamma*z"
+a = 1.0
+gamma = 0.1
+[integrator]
+h = 0.01
+t_end = 0.1
+[grid]
+q_0 = { from = -1.0, to = 1.0, n = 4 }
+[measures]
+final_state = true
+SPEC
+CONTACTSWEEP_CXX=$work/cxx CONTACTSWEEP_CACHE=$work/cache OMP_NUM_THREADS=1 \
+  "$bin" run k.toml -o k.h5 --quiet 2>stderr
+rc=$?
+fail=0
+check() { if eval "$2"; then echo "ok    $1"; else echo "FAIL  $1"; fail=1; fi; }
+check "the run exits 0 (exit $rc; $(head -c 300 stderr))" '[[ $rc == 0 ]]'
+check "the compiler used the precompiled prelude: $(grep -m1 'kernel_prelude' tree.txt)" \
+  'grep -q "^! .*/kernel_build/kernel_prelude\.hpp\.gch$" tree.txt'
+check "no precompiled header was rejected" '! grep -q "^x " tree.txt'
+check "the prelude's text was not read (the .gch stands for it)" \
+  '! grep -q "^\. .*/kernel_build/kernel_prelude\.hpp$" tree.txt'
+exit $fail
