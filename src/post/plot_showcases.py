@@ -27,22 +27,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 
-from plot_maps import centers_extent  # noqa: E402  (lives next to this script)
+from plot_basins import axis_names, text  # noqa: E402  (both live next to this script)
+from plot_maps import centers_extent  # noqa: E402
 
 VDP_PERIOD = 6.6632868593231301   # van der Pol at mu = 1 (period of the limit cycle)
 VDP_AMPLITUDE = 2.0086198608      # its max |q1|
 LORENZ_LAMBDA = 0.9056            # Lorenz, s = 10, r = 28, b = 8/3 (Sprott 2003)
 KINDS = {0: "fixed point", 1: "periodic", 2: "quasi-periodic", 3: "chaotic", 4: "exit"}
 UNDECIDED = "0.15"
-
-
-def text(f, name):
-    value = f.attrs[name]
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
-def axis_names(f):
-    return [d[0].name.lstrip("/") for d in f["basin"].dims]
 
 
 def colours(f):
