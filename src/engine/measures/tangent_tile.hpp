@@ -30,12 +30,17 @@ struct TangentTile {
   }
 };
 
-// advance() (lane_tile.hpp) with the tangent: the same lane loop over the same step, on duals.
-template <Scene S, class Method, Carry carry, bool Uniform, int W>
+// The largest component magnitude m of a tangent brought back into [2^-256, 2^256) (fold_scale),
+// the tile's way: after every 32nd step of an advance and after its last.
+inline bool fold_due(int s, int steps) { return (s & 31) == 31 || s + 1 == steps; }
+
+// advance() (lane_tile.hpp) with the tangent: the same lane loop over the same step, on duals;
+// after_step(s) after step s (and its fold), as advance() calls it.
+template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
 inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g, int steps,
                                  const ParamsOf<S, double>& uniform,
                                  const typename Method::template Coef<double>& uniform_coef,
-                                 double t_start, double h) {
+                                 double t_start, double h, AfterStep&& after_step) {
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr int N = TangentTile<S, W>::N;
@@ -91,7 +96,7 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
     }
     fold_lambda_products<S, carry>(t, s, steps);
     // Growth of 2^256 takes far more than 32 steps of any lane that has not diverged.
-    if ((s & 31) == 31 || s + 1 == steps) {
+    if (fold_due(s, steps)) {
 #pragma GCC ivdep
       for (int i = 0; i < W; ++i) {
         double m = 0.0;
@@ -101,7 +106,41 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
         for (int d = 0; d < D; ++d) g.dkq[d][i] = g.dkq[d][i] * scale;
       }
     }
+    after_step(s);
   }
+}
+
+// One lane's step with its tangent, in scalar code: the tile's lane body above for one lane (the
+// same step function on the same bits), for a lane stepped again to its stop
+// (observables.hpp, FormulaTracker::rerun). x.t is set by the caller.
+template <Scene S, class Method, Carry carry>
+inline void step_with_tangent(LaneState<S::dof>& x, LaneTangent<S::dof>& w,
+                              const ParamsOf<S, double>& c,
+                              const typename Method::template Coef<double>& k) {
+  constexpr int D = S::dof;
+  LaneState<D, Tangent> y = tangent_state<S>(x, w);
+  y.lambda_folds = {x.lambda_folds, 0.0};
+  y.broken = {x.broken, 0.0};
+  y.t = {x.t, 0.0};
+  Method::template step<S, carry>(y, params_as_tangent<S>(c), coef_as_tangent<Method>(k));
+  for (int d = 0; d < D; ++d) {
+    x.q[d] = y.q[d].v, x.p[d] = y.p[d].v, x.kq[d] = y.kq[d].v;
+    w.v[d] = y.q[d].d, w.v[D + d] = y.p[d].d, w.dkq[d] = y.kq[d].d;
+  }
+  x.z = y.z.v, x.mu = y.mu.v, x.broken = y.broken.v;
+  x.lambda_numerator = y.lambda_numerator.v, x.lambda_denominator = y.lambda_denominator.v;
+  if constexpr (tangent_has_z<S>()) w.v[2 * D] = y.z.d;
+}
+
+// The tile's fold of one lane's tangent (advance_with_tangent), in scalar code.
+template <Scene S>
+inline void fold_tangent(LaneTangent<S::dof>& w) {
+  constexpr int N = TangentTile<S, 1>::N;
+  double m = 0.0;
+  for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w.v[k]));
+  const double scale = fold_scale(m, w.folds);
+  for (int k = 0; k < N; ++k) w.v[k] = w.v[k] * scale;
+  for (int d = 0; d < S::dof; ++d) w.dkq[d] = w.dkq[d] * scale;
 }
 
 }  // namespace cs
