@@ -39,29 +39,29 @@ constexpr T value_of(Dual<T> x) {
 }
 
 // V(q) and ∂V/∂q_i from one evaluation of K with q_i seeded (its value part is V itself).
-template <SplittableScene S, int i, class T>
-inline void potential_and_force(const T* q, const ParamsOf<S, T>& c, T t, T& v, T& force) {
+template <SplittableScene S, int i, class T, class C>
+inline void potential_and_force(const T* q, const C& c, T t, T& v, T& force) {
   T zero[S::dof] = {};
   auto k = S::K(StateView<T, Seed::q, i>{q, zero, T{}, t}, c);
   v = value_of<T>(k);
   force = derivative<T>(k);
 }
 
-template <SplittableScene S, class T>
-inline T potential(const T* q, const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, class T, class C>
+inline T potential(const T* q, const C& c, T t) {
   T zero[S::dof] = {};
   return K<S>(q, zero, T{}, c, t);
 }
 
-template <SplittableScene S, int i, class T>
-inline T potential_force(const T* q, const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, int i, class T, class C>
+inline T potential_force(const T* q, const C& c, T t) {
   T zero[S::dof] = {};
   return K_q<S, i>(q, zero, T{}, c, t);
 }
 
 // k in Z(z) = k·z or k·z² (k may depend on t).
-template <SplittableScene S, class T>
-inline T z_coefficient(const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, class T, class C>
+inline T z_coefficient(const C& c, T t) {
   T zero[S::dof] = {};
   if constexpr (S::z_part == ZPart::linear)
     return K_z<S>(zero, zero, T{}, c, t);

@@ -62,6 +62,21 @@ typename Method::template Coef<Tangent> coef_as_tangent(
   return as_tangent<Method::template Coef>(k);
 }
 
+// The coefficients as the tangent step takes them: plain doubles where the method's step
+// accepts them (Method::plain_coefficients: no products with zero derivative parts), else duals.
+template <class Method>
+constexpr bool plain_coefficients() {
+  if constexpr (requires { Method::plain_coefficients; }) return Method::plain_coefficients;
+  else return false;
+}
+template <class Method>
+auto coef_for_tangent(const typename Method::template Coef<double>& k) {
+  if constexpr (plain_coefficients<Method>()) return k;
+  else return coef_as_tangent<Method>(k);
+}
+template <class Method>
+using TangentCoef = decltype(coef_for_tangent<Method>(typename Method::template Coef<double>{}));
+
 // The tangent of one lane: components in the order q.., p.., z; kq's tangent for the force cache.
 template <int D>
 struct LaneTangent {
@@ -117,7 +132,7 @@ template <Scene S, class Method>
 void start_tangent(const LaneState<S::dof>& x, const ParamsOf<S, double>& c,
                    LaneTangent<S::dof>& w) {
   LaneState<S::dof, Tangent> y = tangent_state<S>(x, w);
-  Method::template start<S>(y, params_as_tangent<S>(c));
+  Method::template start<S>(y, c);
   for (int d = 0; d < S::dof; ++d) w.dkq[d] = y.kq[d].d;
 }
 
@@ -152,8 +167,8 @@ class TangentLane {
       : x_(x),
         h_(h),
         t0_(x.t),
-        ct_(params_as_tangent<S>(c)),
-        kt_(coef_as_tangent<Method>(Method::template coefficients<S>(h, c, x))),
+        ct_(c),
+        kt_(coef_for_tangent<Method>(Method::template coefficients<S>(h, c, x))),
         w_(seeded_tangent<S, Method>(x, c, seed)) {}
 
   void step() {
@@ -187,8 +202,8 @@ class TangentLane {
  private:
   LaneState<D>& x_;
   double h_, t0_;
-  ParamsOf<S, Tangent> ct_;
-  typename Method::template Coef<Tangent> kt_;
+  ParamsOf<S, double> ct_;
+  TangentCoef<Method> kt_;
   LaneTangent<D> w_;
   std::int64_t n_ = 0;
 };

@@ -44,8 +44,8 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr int N = TangentTile<S, W>::N;
-  const auto c0 = params_as_tangent<S>(uniform);
-  const auto k0 = coef_as_tangent<Method>(uniform_coef);
+  const ParamsOf<S, double> c0 = uniform;  // plain doubles: K on nested duals costs less
+  const TangentCoef<Method> k0 = coef_for_tangent<Method>(uniform_coef);
   for (int s = 0; s < steps; ++s) {
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
@@ -78,8 +78,8 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
       if constexpr (Uniform) {
         Method::template step<S, carry>(x, c0, k0);
       } else {
-        Method::template step<S, carry>(x, params_as_tangent<S>(t.params(i)),
-                                        coef_as_tangent<Method>(t.coef(i)));
+        Method::template step<S, carry>(x, t.params(i),
+                                        coef_for_tangent<Method>(t.coef(i)));
       }
       for (int d = 0; d < D; ++d) {
         t.q[d][i] = x.q[d].v, t.p[d][i] = x.p[d].v, t.kq[d][i] = x.kq[d].v;
@@ -122,7 +122,7 @@ inline void step_with_tangent(LaneState<S::dof>& x, LaneTangent<S::dof>& w,
   y.lambda_folds = {x.lambda_folds, 0.0};
   y.broken = {x.broken, 0.0};
   y.t = {x.t, 0.0};
-  Method::template step<S, carry>(y, params_as_tangent<S>(c), coef_as_tangent<Method>(k));
+  Method::template step<S, carry>(y, c, coef_for_tangent<Method>(k));
   for (int d = 0; d < D; ++d) {
     x.q[d] = y.q[d].v, x.p[d] = y.p[d].v, x.kq[d] = y.kq[d].v;
     w.v[d] = y.q[d].d, w.v[D + d] = y.p[d].d, w.dkq[d] = y.kq[d].d;
