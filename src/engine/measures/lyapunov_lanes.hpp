@@ -108,7 +108,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   // Step s of the rerun from step count n (x.t set), with the tile's fold schedule.
   void rerun_step(int slot, LaneState<D>& x, std::int64_t n, int s, int steps, const Params& c,
                   const Coef& k) {
-    step_with_tangent<S, Method, carry>(x, rerun_, c, k);
+    step_with_tangent<S, Method, carry>(x, rerun_, c, coef_for_tangent<Method>(k));
     if (fold_due(s, steps)) fold_tangent<S>(rerun_);
     if (window_ && (n + 1 == n_a_ || n + 1 == n_b_)) mark(slot, n + 1, rerun_);
   }

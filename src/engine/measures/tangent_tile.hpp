@@ -110,37 +110,4 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
   }
 }
 
-// One lane's step with its tangent, in scalar code: the tile's lane body above for one lane (the
-// same step function on the same bits), for a lane stepped again to its stop
-// (observables.hpp, FormulaTracker::rerun). x.t is set by the caller.
-template <Scene S, class Method, Carry carry>
-inline void step_with_tangent(LaneState<S::dof>& x, LaneTangent<S::dof>& w,
-                              const ParamsOf<S, double>& c,
-                              const typename Method::template Coef<double>& k) {
-  constexpr int D = S::dof;
-  LaneState<D, Tangent> y = tangent_state<S>(x, w);
-  y.lambda_folds = {x.lambda_folds, 0.0};
-  y.broken = {x.broken, 0.0};
-  y.t = {x.t, 0.0};
-  Method::template step<S, carry>(y, c, coef_for_tangent<Method>(k));
-  for (int d = 0; d < D; ++d) {
-    x.q[d] = y.q[d].v, x.p[d] = y.p[d].v, x.kq[d] = y.kq[d].v;
-    w.v[d] = y.q[d].d, w.v[D + d] = y.p[d].d, w.dkq[d] = y.kq[d].d;
-  }
-  x.z = y.z.v, x.mu = y.mu.v, x.broken = y.broken.v;
-  x.lambda_numerator = y.lambda_numerator.v, x.lambda_denominator = y.lambda_denominator.v;
-  if constexpr (tangent_has_z<S>()) w.v[2 * D] = y.z.d;
-}
-
-// The tile's fold of one lane's tangent (advance_with_tangent), in scalar code.
-template <Scene S>
-inline void fold_tangent(LaneTangent<S::dof>& w) {
-  constexpr int N = TangentTile<S, 1>::N;
-  double m = 0.0;
-  for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w.v[k]));
-  const double scale = fold_scale(m, w.folds);
-  for (int k = 0; k < N; ++k) w.v[k] = w.v[k] * scale;
-  for (int d = 0; d < S::dof; ++d) w.dkq[d] = w.dkq[d] * scale;
-}
-
 }  // namespace cs

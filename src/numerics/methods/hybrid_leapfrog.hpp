@@ -127,7 +127,8 @@ struct HybridLeapfrog {
     });
 
     // End forces K_q^{n+1}, K_z^{n+1}, and p^{n+1} = b·p^{n+½} − h/2·K_q^{n+1}.
-    Factor b = k.b;
+    Factor b{};  // state-dependent K_z: set by end_forces_at
+    if constexpr (S::kz_constant) b = k.b;
     auto end_forces_at = [&](const T* p) {
       if constexpr (!S::kz_constant) b = mul_add(hh, K_z<S>(x.q, p, x.z, c, t1), 1.0);
       for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p, x.z, c, t1); });
