@@ -145,6 +145,22 @@ if out:
     ours = numerical(50, n_s)
     check("stop inside the window: exponent over [window start, stop_time]",
           np.all(np.abs(lyap - ours) < 1e-11), f"{lyap} vs {ours} (steps 50 .. {n_s})")
+# 100 lanes over the phase (q_0, p_0): each stops at its own step, so the tile refills slots at
+# different step counts and lanes sharing a tile sit at different steps when the window opens.
+many = oscillator(100.0, window="observe_window = { from = 0.5, to = 70.0 }", stop=STOP).replace(
+    "q_0 = { values = [1.0, 2.0] }", "q_0 = { from = 0.1, to = 1.0, n = 10 }\np_0 = { from = -1.0, to = 1.0, n = 10 }")
+out = run(many, "window_stop_phases")
+if out:
+    lyap, stop_time = read(out, "lyapunov", "stop_time")
+    lyap, stop_time = lyap.ravel(), stop_time.ravel()
+    n_s = np.rint(stop_time / H).astype(int)
+    expected = np.array([numerical(50, n) if n > 50 else np.nan for n in n_s])
+    late = n_s > 50
+    check("100 phases: stop times spread over more than a chunk", n_s.max() - n_s.min() > 64,
+          f"{n_s.min()} .. {n_s.max()} steps")
+    check("100 phases: each lane's exponent over [window start, its stop] (NaN: stopped before)",
+          np.array_equal(np.isnan(lyap), ~late) and np.all(np.abs(lyap[late] - expected[late]) < 1e-11),
+          f"max deviation {np.nanmax(np.abs(lyap - expected)):.3g}, {late.sum()} lanes in the window")
 out = run(oscillator(100.0, window=WINDOW, stop=STOP), "window_after_stop")
 if out:
     lyap, status = read(out, "lyapunov", "status")
