@@ -182,13 +182,19 @@ class BlockRunner {
   // ---- stepping ------------------------------------------------------------------------------
 
   void advance_tile(Tile& t, int steps) {
-    if constexpr (carry.tangent) {
-      lyapunov_.template advance<Uniform>(t, &t == &main_, steps, uniform_params_, uniform_coef_,
-                                          clock_.t_start, clock_.h);
-    } else if constexpr (kFormulas) {
-      const int which = &t == &main_ ? 0 : 1;
-      std::int64_t base[W];
+    const int which = &t == &main_ ? 0 : 1;
+    std::int64_t base[W];  // the lanes' step counts
+    if constexpr (kFormulas || carry.tangent)
       for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done_[i] : fin_book_[i].n;
+    if constexpr (carry.tangent) {
+      bool hooks = false;
+      if constexpr (kFormulas) hooks = formulas_.before_advance(t, which, base, steps);
+      lyapunov_.template advance<Uniform>(t, which == 0, base, steps, uniform_params_,
+                                          uniform_coef_, clock_.t_start, clock_.h, [&](int s) {
+                                            if constexpr (kFormulas)
+                                              if (hooks) formulas_.after_step(t, which, s);
+                                          });
+    } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
         advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                            clock_.h, [&](int s) { formulas_.after_step(t, which, s); });
@@ -391,8 +397,22 @@ class BlockRunner {
   // stepped again to the stop, and finished there.
   void stop_lane(int lane_slot, const Tile& t, int i, Book& b, int steps) {
     const Params c = t.params(i);
+    const Coef k = t.coef(i);
     LaneState<D> x;
-    b.n = formulas_.rerun(lane_slot, c, t.coef(i), steps, x);
+    if constexpr (carry.tangent) {
+      // The state and its tangent stepped again together (lyapunov_lanes.hpp).
+      b.n = formulas_.rerun(lane_slot, c, steps, x,
+                            [&](std::int64_t base) { lyapunov_.rerun_begin(lane_slot, base); },
+                            [&](LaneState<D>& y, std::int64_t n, int s) {
+                              lyapunov_.rerun_step(lane_slot, y, n, s, steps, c, k);
+                            });
+      lyapunov_.rerun_end(lane_slot);
+    } else {
+      b.n = formulas_.rerun(lane_slot, c, steps, x, [](std::int64_t) {},
+                            [&](LaneState<D>& y, std::int64_t, int) {
+                              Method::template step<S, carry>(y, c, k);
+                            });
+    }
     x.t = clock_.at(b.n);
     LaneStatus status = LaneStatus::ok;
     if (lane_failed(x, status)) return finish(lane_slot, b, x, c, status);

@@ -102,8 +102,17 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   if (measures.basin) add_basin_columns(*measures.basin);
 
   if (measures.lyapunov) {
+    // Its interval (docs/lyapunov.md): the run's (said only where it could be another), or
+    // observe_window's, cut short by a stop.
+    std::string over;
+    if (measures.observe && measures.observe->window)
+      over = fmt::format(" over the steps of observe_window [{}, {}]",
+                         (*measures.observe->window)[0], (*measures.observe->window)[1]);
+    else if (measures.stop)
+      over = " over [t_start, t_end]";
+    if (measures.stop) over += " or until the stop";
     map.lyapunov = add({"lyapunov", ElementType::float64, false,
-                        "finite-time largest Lyapunov exponent of the integrator's step map",
+                        "finite-time largest Lyapunov exponent of the integrator's step map" + over,
                         "1/time", {}, "", std::nullopt});
     const auto& vars = measures.lyapunov->vars;
     for (int k = 0; k <= 2 * scene.dof; ++k)  // q.., p.., z: the catalog's order

@@ -34,10 +34,6 @@ void SpecReader::read_measures() {
   if (!m.final_state && !m.trajectory && !m.basin && !m.sync && !m.lyapunov && !m.observe && !m.stop)
     fail(node, fmt::format("[measures] requests nothing; scene '{}' supports: {}", scene_->name,
                            fmt::join(scene_->measures, ", ")));
-  // The tangent's kernel advances its lanes without the per-step hooks a stop or a window needs.
-  if (m.lyapunov && (m.stop || (m.observe && m.observe->window)))
-    fail(node, "measures.lyapunov cannot be combined with measures.stop or measures.observe_window "
-               "yet: run the exponent map and the stop or window as two runs");
 }
 
 const toml::table* SpecReader::measure_settings(const toml::table& measures, std::string_view name,

@@ -95,17 +95,22 @@ struct ContactSplitting {
   }
 
   // The first kick needs V′ at the initial state.
-  template <Scene S, class T>
-  static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
+  template <Scene S, class T, class C>
+  static void start(LaneState<S::dof, T>& x, const C& c) {
     if constexpr (SplittableScene<S>)
       for_each_dof<S::dof>([&](auto i) { x.kq[i] = potential_force<S, i>(x.q, c, x.t); });
   }
 
   // Forced inline, with everything it calls: the kernel's lane loop vectorises only if the whole
   // step is one straight block inside it (a step of this size exceeds GCC's inlining limits).
-  template <Scene S, Carry carry, class T>
+  // P, the coefficients' number type, is T or double: the tangent step (T = Dual<double>) takes
+  // them as plain doubles (plain_coefficients), which spares the products with their zero
+  // derivative parts; the value parts are the same operations either way.
+  static constexpr bool plain_coefficients = true;
+
+  template <Scene S, Carry carry, class T, class C, class P>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
-                                                        const ParamsOf<S, T>& c, const Coef<T>& k) {
+                                                        const C& c, const Coef<P>& k) {
     if constexpr (SplittableScene<S>) {
       constexpr bool with_z = carry.z || S::z_feeds_back;
       const T t0 = x.t;
@@ -135,8 +140,8 @@ struct ContactSplitting {
   }
 
   // Z over half an S₂, at time t (which matters only where k depends on it).
-  template <SplittableScene S, Carry carry, class T>
-  static void z_flow(LaneState<S::dof, T>& x, const Coef<T>& k, int s, const ParamsOf<S, T>& c,
+  template <SplittableScene S, Carry carry, class T, class C, class P>
+  static void z_flow(LaneState<S::dof, T>& x, const Coef<P>& k, int s, const C& c,
                      T t) {
     constexpr bool with_z = carry.z || S::z_feeds_back;
     if constexpr (!z_varies<S>()) {
@@ -155,8 +160,8 @@ struct ContactSplitting {
     }
   }
 
-  template <SplittableScene S, bool with_z, class T>
-  static void refresh_force(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c, T& v, T t) {
+  template <SplittableScene S, bool with_z, class T, class C>
+  static void refresh_force(LaneState<S::dof, T>& x, const C& c, T& v, T t) {
     for_each_dof<S::dof>([&](auto i) {
       if constexpr (with_z)
         potential_and_force<S, i>(x.q, c, t, v, x.kq[i]);

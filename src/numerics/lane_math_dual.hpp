@@ -58,6 +58,10 @@ template <class T>
   return {mul_add(a.v, b.v, c), mul_add(a.v, b.d, a.d * b.v)};
 }
 template <class T>
+[[gnu::always_inline]] inline Dual<T> mul_add(double a, Dual<T> b, double c) {
+  return {mul_add(a, b.v, c), a * b.d};
+}
+template <class T>
 [[gnu::always_inline]] inline Dual<T> select(bool c, Dual<T> a, Dual<T> b) {
   return {select(c, a.v, b.v), select(c, a.d, b.d)};
 }

@@ -65,14 +65,14 @@ inline T log_lambda(const LaneState<S::dof, T>& x) {
 
 // K_q at the lane's current state into its force cache: what the leap-frogs need before their
 // first step (afterwards each step leaves K_q^{n+1} there for the next).
-template <Scene S, class T>
-inline void cache_forces(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
+template <Scene S, class T, class C>
+inline void cache_forces(LaneState<S::dof, T>& x, const C& c) {
   for_each_dof<S::dof>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, x.p, x.z, c, x.t); });
 }
 
 // dz/dt = K − Σ p_i K_{p_i}, each product fused into the sum (lane_math::mul_add).
-template <Scene S, class T>
-inline T z_rate(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t) {
+template <Scene S, class T, class C>
+inline T z_rate(const T* q, const T* p, T z, const C& c, T t) {
   T r = K<S>(q, p, z, c, t);
   for_each_dof<S::dof>(
       [&](auto i) { r = lane_math::mul_add(-p[i], K_p<S, i>(q, p, z, c, t), r); });

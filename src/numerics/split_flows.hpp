@@ -39,29 +39,29 @@ constexpr T value_of(Dual<T> x) {
 }
 
 // V(q) and ∂V/∂q_i from one evaluation of K with q_i seeded (its value part is V itself).
-template <SplittableScene S, int i, class T>
-inline void potential_and_force(const T* q, const ParamsOf<S, T>& c, T t, T& v, T& force) {
+template <SplittableScene S, int i, class T, class C>
+inline void potential_and_force(const T* q, const C& c, T t, T& v, T& force) {
   T zero[S::dof] = {};
   auto k = S::K(StateView<T, Seed::q, i>{q, zero, T{}, t}, c);
   v = value_of<T>(k);
   force = derivative<T>(k);
 }
 
-template <SplittableScene S, class T>
-inline T potential(const T* q, const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, class T, class C>
+inline T potential(const T* q, const C& c, T t) {
   T zero[S::dof] = {};
   return K<S>(q, zero, T{}, c, t);
 }
 
-template <SplittableScene S, int i, class T>
-inline T potential_force(const T* q, const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, int i, class T, class C>
+inline T potential_force(const T* q, const C& c, T t) {
   T zero[S::dof] = {};
   return K_q<S, i>(q, zero, T{}, c, t);
 }
 
 // k in Z(z) = k·z or k·z² (k may depend on t).
-template <SplittableScene S, class T>
-inline T z_coefficient(const ParamsOf<S, T>& c, T t) {
+template <SplittableScene S, class T, class C>
+inline T z_coefficient(const C& c, T t) {
   T zero[S::dof] = {};
   if constexpr (S::z_part == ZPart::linear)
     return K_z<S>(zero, zero, T{}, c, t);
@@ -71,8 +71,9 @@ inline T z_coefficient(const ParamsOf<S, T>& c, T t) {
 
 // ---- the flows; `with_z` says whether z is integrated at all -----------------------------------
 
-template <bool with_z, int D, class T>
-inline void kinetic_flow(LaneState<D, T>& x, T t) {
+// The flows' lengths and factors (P) are T, or plain doubles in a tangent step (T a dual).
+template <bool with_z, int D, class T, class P>
+inline void kinetic_flow(LaneState<D, T>& x, P t) {
   for (int i = 0; i < D; ++i) {
     if constexpr (with_z) x.z = lane_math::mul_add(-t, half_square(x.p[i]), x.z);
     x.q[i] = lane_math::mul_add(t, x.p[i], x.q[i]);
@@ -80,22 +81,22 @@ inline void kinetic_flow(LaneState<D, T>& x, T t) {
 }
 
 // `force` and `v` are V′ and V at the current q (a kick leaves q alone, so they stay valid).
-template <bool with_z, int D, class T>
-inline void potential_flow(LaneState<D, T>& x, T t, const T* force, T v) {
+template <bool with_z, int D, class T, class P>
+inline void potential_flow(LaneState<D, T>& x, P t, const T* force, T v) {
   for (int i = 0; i < D; ++i) x.p[i] = lane_math::mul_add(-t, force[i], x.p[i]);
   if constexpr (with_z) x.z = lane_math::mul_add(t, v, x.z);
 }
 
 // Z = k·z for time t, given decay = e^{kt}; ln λ is advanced once per step by the caller.
-template <bool with_z, int D, class T>
-inline void linear_z_flow(LaneState<D, T>& x, T decay) {
+template <bool with_z, int D, class T, class P>
+inline void linear_z_flow(LaneState<D, T>& x, P decay) {
   for (int i = 0; i < D; ++i) x.p[i] = x.p[i] * decay;
   if constexpr (with_z) x.z = x.z * decay;
 }
 
 // Z = k·z² for time t (z always feeds back here).
-template <bool with_mu, int D, class T>
-inline void quadratic_z_flow(LaneState<D, T>& x, T k, T t) {
+template <bool with_mu, int D, class T, class K, class P>
+inline void quadratic_z_flow(LaneState<D, T>& x, K k, P t) {
   T s = 1.0 - k * x.z * t;
   x.broken += (s <= 0.0);
   T r = 1.0 / s;

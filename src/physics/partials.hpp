@@ -12,23 +12,23 @@ namespace cs {
 template <class T> constexpr T derivative(T) { return T{}; }  // K does not involve the seed
 template <class T> constexpr T derivative(Dual<T> x) { return x.d; }
 
-template <Scene S, class T>
-inline T K(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t = T{}) {
+template <Scene S, class T, class C>
+inline T K(const T* q, const T* p, T z, const C& c, T t = T{}) {
   return S::K(StateView<T>{q, p, z, t}, c);
 }
 
-template <Scene S, int i, class T>
-inline T K_q(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t = T{}) {
+template <Scene S, int i, class T, class C>
+inline T K_q(const T* q, const T* p, T z, const C& c, T t = T{}) {
   return derivative<T>(S::K(StateView<T, Seed::q, i>{q, p, z, t}, c));
 }
 
-template <Scene S, int i, class T>
-inline T K_p(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t = T{}) {
+template <Scene S, int i, class T, class C>
+inline T K_p(const T* q, const T* p, T z, const C& c, T t = T{}) {
   return derivative<T>(S::K(StateView<T, Seed::p, i>{q, p, z, t}, c));
 }
 
-template <Scene S, class T>
-inline T K_z(const T* q, const T* p, T z, const ParamsOf<S, T>& c, T t = T{}) {
+template <Scene S, class T, class C>
+inline T K_z(const T* q, const T* p, T z, const C& c, T t = T{}) {
   return derivative<T>(S::K(StateView<T, Seed::z>{q, p, z, t}, c));
 }
 

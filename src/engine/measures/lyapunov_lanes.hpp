@@ -1,10 +1,19 @@
 // The lyapunov measure's part of the block runner: the tangents of the main and finisher tiles,
 // seeded when a lane is loaded, moved with it, and turned into the `lyapunov` column when it
 // finishes (tangent_lyapunov.hpp). Without Carry::tangent every call is empty and vanishes.
+//
+// The exponent's interval (docs/lyapunov.md): [t_start, the lane's last step] — t_end, its stop
+// (measures.stop) or where its basin settled — or, with measures.observe_window, the part of
+// that interval inside the window's samples [n_a, n_b] (ObservePlan::window_first, _last): the
+// tangent still starts at t_start, so it has aligned with the most expanding direction by n_a,
+// and ln‖v‖ is read at n_a and at the end. A lane that stops after a chunk's start is stepped
+// again from a snapshot of its tangent with the state (rerun_*), as FormulaTracker does.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "engine/lane_writer.hpp"
@@ -26,45 +35,138 @@ class LyapunovLanes {
 template <Scene S, class Method, Carry carry, int W>
 requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   static constexpr int D = S::dof;
+  static constexpr bool with_z = tangent_has_z<S>();
   using Tile = LaneTile<S, Method, W>;
+  using Params = ParamsOf<S, double>;
+  using Coef = typename Method::template Coef<double>;
+
+  // ln‖v‖ = folds·256 ln 2 + log_norm at a step, kept apart as lyapunov_value keeps them.
+  struct Mark {
+    double folds = 0.0, log_norm = 0.0;
+    bool set = false;
+  };
 
  public:
-  LyapunovLanes(const RunPlan& plan, BlockResults& out) : plan_(plan), out_(out) {}
+  LyapunovLanes(const RunPlan& plan, BlockResults& out)
+      : plan_(plan),
+        out_(out),
+        window_(plan.observe.window),
+        n_a_(window_ ? plan.observe.window_first : 0),
+        n_b_(window_ ? plan.observe.window_last : plan.spec.steps) {}
 
   // Main slot i now holds a fresh lane at x (its force cache set by Method::start).
-  void seed(int i, const LaneState<D>& x, const ParamsOf<S, double>& c) {
+  void seed(int i, const LaneState<D>& x, const Params& c) {
     main_.set_lane(i, seeded_tangent<S, Method>(x, c, plan_.lyapunov_seed));
+    mark_a_[i] = mark_b_[i] = Mark{};
+    if (window_ && n_a_ == 0) mark_a_[i] = Mark{0.0, plan_.lyapunov_log_norm0, true};
   }
-  void clear(bool main, int i) { (main ? main_ : fin_).set_lane(i, LaneTangent<D>{}); }
-  void move(int i, int j) { fin_.set_lane(j, main_.lane(i)); }
+  void clear(bool main, int i) {
+    (main ? main_ : fin_).set_lane(i, LaneTangent<D>{});
+    const int slot = main ? i : W + i;
+    mark_a_[slot] = mark_b_[slot] = Mark{};
+  }
+  void move(int i, int j) {
+    fin_.set_lane(j, main_.lane(i));
+    mark_a_[W + j] = mark_a_[i], mark_b_[W + j] = mark_b_[i];
+  }
 
-  template <bool Uniform>
-  void advance(Tile& t, bool main, int steps, const ParamsOf<S, double>& uniform,
-               const typename Method::template Coef<double>& uniform_coef, double t_start,
-               double h) {
-    advance_with_tangent<S, Method, carry, Uniform>(t, main ? main_ : fin_, steps, uniform,
-                                                    uniform_coef, t_start, h);
+  // Advances tile t (main or finisher) by `steps`; its lanes were at step counts base[i].
+  // after_step(s) as advance() calls it. With a stop, the tangents are kept first (rerun_*).
+  template <bool Uniform, class AfterStep>
+  void advance(Tile& t, bool main, const std::int64_t* base, int steps, const Params& uniform,
+               const Coef& uniform_coef, double t_start, double h, AfterStep&& after_step) {
+    TangentTile<S, W>& g = main ? main_ : fin_;
+    const int which = main ? 0 : 1;
+    if (plan_.observe.stop) std::memcpy(&snapshot_[which], &g, sizeof g);
+    bool marks = false;  // does this advance pass a window end of some lane?
+    if (window_) {
+      for (int i = 0; i < W && !marks; ++i)
+        marks = passes(base[i], steps, n_a_) || passes(base[i], steps, n_b_);
+    }
+    if (!marks) {
+      advance_with_tangent<S, Method, carry, Uniform>(t, g, steps, uniform, uniform_coef, t_start,
+                                                      h, after_step);
+      return;
+    }
+    advance_with_tangent<S, Method, carry, Uniform>(
+        t, g, steps, uniform, uniform_coef, t_start, h, [&](int s) {
+          for (int i = 0; i < W; ++i) {
+            const std::int64_t n = base[i] + s + 1;
+            if (n == n_a_ || n == n_b_) mark(which * W + i, n, g.lane(i));
+          }
+          after_step(s);
+        });
+  }
+
+  // A lane in `slot` stepped again from the chunk's start (base) to its stop: its tangent from
+  // the snapshot, and no marks past base (the tile's advance ran on past the stop).
+  void rerun_begin(int slot, std::int64_t base) {
+    rerun_ = snapshot_[slot / W].lane(slot % W);
+    if (n_a_ > base) mark_a_[slot] = Mark{};
+    if (n_b_ > base) mark_b_[slot] = Mark{};
+  }
+  // Step s of the rerun from step count n (x.t set), with the tile's fold schedule.
+  void rerun_step(int slot, LaneState<D>& x, std::int64_t n, int s, int steps, const Params& c,
+                  const Coef& k) {
+    step_with_tangent<S, Method, carry>(x, rerun_, c, coef_for_tangent<Method>(k));
+    if (fold_due(s, steps)) fold_tangent<S>(rerun_);
+    if (window_ && (n + 1 == n_a_ || n + 1 == n_b_)) mark(slot, n + 1, rerun_);
+  }
+  // The rerun stopped: the tangent at the stop, folded as at the end of an advance, into its slot.
+  void rerun_end(int slot) {
+    fold_tangent<S>(rerun_);
+    (slot < W ? main_ : fin_).set_lane(slot % W, rerun_);
   }
 
   // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps. NaN where the lane
-  // failed or never stepped; a healthy lane whose exponent is not finite is flagged through its
-  // book (LaneWriter then writes non_finite_output).
+  // failed or its interval is empty; a healthy lane whose exponent is not finite is flagged
+  // through its book (LaneWriter then writes non_finite_output).
   void finish(int lane_slot, LaneBook<D>& b, LaneStatus status) {
     double value = std::numeric_limits<double>::quiet_NaN();
     if (status == LaneStatus::ok && b.n > 0) {
       const LaneTangent<D> w = lane_slot < W ? main_.lane(lane_slot) : fin_.lane(lane_slot - W);
-      value = lyapunov_value<D, tangent_has_z<S>()>(w.v, w.folds, plan_.lyapunov_log_norm0, b.n,
-                                                    plan_.spec.h);
-      if (!std::isfinite(value)) b.non_finite = true;
+      if (!window_) {
+        value = lyapunov_value<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0, b.n,
+                                          plan_.spec.h);
+      } else {
+        const Mark& a = mark_a_[lane_slot];
+        const std::int64_t n_e = std::min(b.n, n_b_);
+        const Mark e = b.n < n_b_ ? Mark{w.folds, log_norm(w.v), true} : mark_b_[lane_slot];
+        if (a.set && e.set && n_e > n_a_)
+          value = ((e.folds - a.folds) * kFoldLog + (e.log_norm - a.log_norm)) /
+                  (static_cast<double>(n_e - n_a_) * plan_.spec.h);
+      }
+      if (!std::isfinite(value) && (!window_ || n_e_nonempty(b.n))) b.non_finite = true;
     }
     out_.columns[static_cast<std::size_t>(plan_.map.lyapunov)]
                 [static_cast<std::size_t>(b.point - out_.range.begin)] = value;
   }
 
  private:
+  static bool passes(std::int64_t base, int steps, std::int64_t n) {
+    return base < n && n <= base + steps;
+  }
+  bool n_e_nonempty(std::int64_t n) const { return std::min(n, n_b_) > n_a_; }
+
+  static double log_norm(const double* v) {
+    double sum = 0.0;
+    for (int k = 0; k < 2 * D + (with_z ? 1 : 0); ++k) sum = sum + v[k] * v[k];
+    return 0.5 * std::log(sum);
+  }
+  void mark(int slot, std::int64_t n, const LaneTangent<D>& w) {
+    const Mark m{w.folds, log_norm(w.v), true};
+    if (n == n_a_) mark_a_[slot] = m;
+    if (n == n_b_) mark_b_[slot] = m;
+  }
+
   const RunPlan& plan_;
   BlockResults& out_;
+  bool window_;
+  std::int64_t n_a_, n_b_;  // the exponent's steps: the window's first and last samples
   TangentTile<S, W> main_{}, fin_{};
+  TangentTile<S, W> snapshot_[2]{};  // the tiles' tangents at the start of their last advance
+  LaneTangent<D> rerun_{};
+  Mark mark_a_[2 * W]{}, mark_b_[2 * W]{};
 };
 
 }  // namespace cs

@@ -207,8 +207,12 @@ class FormulaTracker {
   }
 
   // A lane flagged in the last advance of its tile: stepped again from the snapshot until the
-  // condition holds. Returns the stop's step count, x its state there.
-  std::int64_t rerun(int slot, const Params& c, const Coef& coef, int steps, LaneState<D>& x) {
+  // condition holds. Returns the stop's step count, x its state there. begin(base) once, then
+  // step(x, n, s) makes step s of the rerun from step count n (x.t set): the method's step, or
+  // the step with the lyapunov measure's tangent (lyapunov_lanes.hpp).
+  template <class Begin, class Step>
+  std::int64_t rerun(int slot, const Params& c, int steps, LaneState<D>& x, Begin&& begin,
+                     Step&& step_one) {
     const int which = slot / W, i = slot % W;
     const Snapshot& s = snapshot_[which];
     x = LaneState<D>{};
@@ -230,10 +234,11 @@ class FormulaTracker {
         max_[k][slot] = s.max[k][slot];
     }
     std::int64_t n = base_[slot];
+    begin(n);
     for (int step = 0; step < steps; ++step) {
       if constexpr (time_dependent<S>()) x.t = clock_.at(n);
       else x.t = 0.0;
-      Method::template step<S, carry>(x, c, coef);
+      step_one(x, n, step);
       ++n;
       const ObservableView<D> v = view(x, clock_.at(n));
       if (o_.window_every_step && n >= o_.window_first && n <= o_.window_last)

@@ -62,6 +62,21 @@ typename Method::template Coef<Tangent> coef_as_tangent(
   return as_tangent<Method::template Coef>(k);
 }
 
+// The coefficients as the tangent step takes them: plain doubles where the method's step
+// accepts them (Method::plain_coefficients: no products with zero derivative parts), else duals.
+template <class Method>
+constexpr bool plain_coefficients() {
+  if constexpr (requires { Method::plain_coefficients; }) return Method::plain_coefficients;
+  else return false;
+}
+template <class Method>
+auto coef_for_tangent(const typename Method::template Coef<double>& k) {
+  if constexpr (plain_coefficients<Method>()) return k;
+  else return coef_as_tangent<Method>(k);
+}
+template <class Method>
+using TangentCoef = decltype(coef_for_tangent<Method>(typename Method::template Coef<double>{}));
+
 // The tangent of one lane: components in the order q.., p.., z; kq's tangent for the force cache.
 template <int D>
 struct LaneTangent {
@@ -117,7 +132,7 @@ template <Scene S, class Method>
 void start_tangent(const LaneState<S::dof>& x, const ParamsOf<S, double>& c,
                    LaneTangent<S::dof>& w) {
   LaneState<S::dof, Tangent> y = tangent_state<S>(x, w);
-  Method::template start<S>(y, params_as_tangent<S>(c));
+  Method::template start<S>(y, c);
   for (int d = 0; d < S::dof; ++d) w.dkq[d] = y.kq[d].d;
 }
 
@@ -133,6 +148,36 @@ LaneTangent<S::dof> seeded_tangent(const LaneState<S::dof>& x, const ParamsOf<S,
   return w;
 }
 
+// One lane's step with its tangent, in scalar code: the tile's lane body (tangent_tile.hpp) for
+// one lane, the same step function on the same bits; for a lane stepped again to its stop
+// (FormulaTracker::rerun) and for TangentLane. x.t is set by the caller; c and k as the
+// tangent step takes them (coef_for_tangent).
+template <Scene S, class Method, Carry carry, class K>
+inline void step_with_tangent(LaneState<S::dof>& x, LaneTangent<S::dof>& w,
+                              const ParamsOf<S, double>& c, const K& k) {
+  constexpr int D = S::dof;
+  LaneState<D, Tangent> y = tangent_state<S>(x, w);
+  Method::template step<S, carry>(y, c, k);
+  for (int d = 0; d < D; ++d) {
+    x.q[d] = y.q[d].v, x.p[d] = y.p[d].v, x.kq[d] = y.kq[d].v;
+    w.v[d] = y.q[d].d, w.v[D + d] = y.p[d].d, w.dkq[d] = y.kq[d].d;
+  }
+  x.z = y.z.v, x.mu = y.mu.v, x.broken = y.broken.v;
+  x.lambda_numerator = y.lambda_numerator.v, x.lambda_denominator = y.lambda_denominator.v;
+  if constexpr (tangent_has_z<S>()) w.v[2 * D] = y.z.d;
+}
+
+// The tile's fold of one lane's tangent (advance_with_tangent), in scalar code.
+template <Scene S>
+inline void fold_tangent(LaneTangent<S::dof>& w) {
+  constexpr int N = 2 * S::dof + (tangent_has_z<S>() ? 1 : 0);
+  double m = 0.0;
+  for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w.v[k]));
+  const double scale = fold_scale(m, w.folds);
+  for (int k = 0; k < N; ++k) w.v[k] = w.v[k] * scale;
+  for (int d = 0; d < S::dof; ++d) w.dkq[d] = w.dkq[d] * scale;
+}
+
 // ---- one lane: the facility the attractor table uses (attractor_lyapunov, issue 23) ----------
 
 // One lane and its tangent, advanced a step at a time: the pieces of lane_lyapunov, for a caller
@@ -143,7 +188,6 @@ class TangentLane {
   // Without ln λ: the hybrid leap-frog's λ products would need the tile's folding.
   static_assert(!carry.mu, "TangentLane integrates no ln lambda");
   static constexpr int D = S::dof;
-  static constexpr int N = 2 * D + (tangent_has_z<S>() ? 1 : 0);
 
  public:
   // x with its force cache set by Method::start; the tangent starts as `seed` (seeded_tangent).
@@ -152,26 +196,14 @@ class TangentLane {
       : x_(x),
         h_(h),
         t0_(x.t),
-        ct_(params_as_tangent<S>(c)),
-        kt_(coef_as_tangent<Method>(Method::template coefficients<S>(h, c, x))),
+        ct_(c),
+        kt_(coef_for_tangent<Method>(Method::template coefficients<S>(h, c, x))),
         w_(seeded_tangent<S, Method>(x, c, seed)) {}
 
   void step() {
-    LaneState<D, Tangent> y = tangent_state<S>(x_, w_);
-    y.t = {t0_ + static_cast<double>(n_) * h_, 0.0};
-    Method::template step<S, carry>(y, ct_, kt_);
-    for (int d = 0; d < D; ++d) {
-      x_.q[d] = y.q[d].v, x_.p[d] = y.p[d].v, x_.kq[d] = y.kq[d].v;
-      w_.v[d] = y.q[d].d, w_.v[D + d] = y.p[d].d, w_.dkq[d] = y.kq[d].d;
-    }
-    x_.z = y.z.v, x_.mu = y.mu.v, x_.broken = y.broken.v;
-    x_.lambda_numerator = y.lambda_numerator.v, x_.lambda_denominator = y.lambda_denominator.v;
-    if constexpr (tangent_has_z<S>()) w_.v[2 * D] = y.z.d;
-    double m = 0.0;
-    for (int k = 0; k < N; ++k) m = std::fmax(m, std::fabs(w_.v[k]));
-    const double scale = fold_scale(m, w_.folds);
-    for (int k = 0; k < N; ++k) w_.v[k] = w_.v[k] * scale;
-    for (int d = 0; d < D; ++d) w_.dkq[d] = w_.dkq[d] * scale;
+    x_.t = t0_ + static_cast<double>(n_) * h_;
+    step_with_tangent<S, Method, carry>(x_, w_, ct_, kt_);
+    fold_tangent<S>(w_);
     ++n_;
     x_.t = t0_ + static_cast<double>(n_) * h_;
   }
@@ -187,8 +219,8 @@ class TangentLane {
  private:
   LaneState<D>& x_;
   double h_, t0_;
-  ParamsOf<S, Tangent> ct_;
-  typename Method::template Coef<Tangent> kt_;
+  ParamsOf<S, double> ct_;
+  TangentCoef<Method> kt_;
   LaneTangent<D> w_;
   std::int64_t n_ = 0;
 };

@@ -30,17 +30,22 @@ struct TangentTile {
   }
 };
 
-// advance() (lane_tile.hpp) with the tangent: the same lane loop over the same step, on duals.
-template <Scene S, class Method, Carry carry, bool Uniform, int W>
+// The largest component magnitude m of a tangent brought back into [2^-256, 2^256) (fold_scale),
+// the tile's way: after every 32nd step of an advance and after its last.
+inline bool fold_due(int s, int steps) { return (s & 31) == 31 || s + 1 == steps; }
+
+// advance() (lane_tile.hpp) with the tangent: the same lane loop over the same step, on duals;
+// after_step(s) after step s (and its fold), as advance() calls it.
+template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
 inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g, int steps,
                                  const ParamsOf<S, double>& uniform,
                                  const typename Method::template Coef<double>& uniform_coef,
-                                 double t_start, double h) {
+                                 double t_start, double h, AfterStep&& after_step) {
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr int N = TangentTile<S, W>::N;
-  const auto c0 = params_as_tangent<S>(uniform);
-  const auto k0 = coef_as_tangent<Method>(uniform_coef);
+  const ParamsOf<S, double> c0 = uniform;  // plain doubles: K on nested duals costs less
+  const TangentCoef<Method> k0 = coef_for_tangent<Method>(uniform_coef);
   for (int s = 0; s < steps; ++s) {
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
@@ -73,8 +78,8 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
       if constexpr (Uniform) {
         Method::template step<S, carry>(x, c0, k0);
       } else {
-        Method::template step<S, carry>(x, params_as_tangent<S>(t.params(i)),
-                                        coef_as_tangent<Method>(t.coef(i)));
+        Method::template step<S, carry>(x, t.params(i),
+                                        coef_for_tangent<Method>(t.coef(i)));
       }
       for (int d = 0; d < D; ++d) {
         t.q[d][i] = x.q[d].v, t.p[d][i] = x.p[d].v, t.kq[d][i] = x.kq[d].v;
@@ -91,7 +96,7 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
     }
     fold_lambda_products<S, carry>(t, s, steps);
     // Growth of 2^256 takes far more than 32 steps of any lane that has not diverged.
-    if ((s & 31) == 31 || s + 1 == steps) {
+    if (fold_due(s, steps)) {
 #pragma GCC ivdep
       for (int i = 0; i < W; ++i) {
         double m = 0.0;
@@ -101,6 +106,7 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
         for (int d = 0; d < D; ++d) g.dkq[d][i] = g.dkq[d][i] * scale;
       }
     }
+    after_step(s);
   }
 }
 

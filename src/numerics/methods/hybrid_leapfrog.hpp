@@ -78,26 +78,34 @@ struct HybridLeapfrog {
   }
 
   // Called once when a lane is loaded: the first step needs K_q at the initial state.
-  template <Scene S, class T>
-  static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
+  template <Scene S, class T, class C>
+  static void start(LaneState<S::dof, T>& x, const C& c) {
     cache_forces<S>(x, c);
   }
 
   // Forced inline with everything it calls, as the other methods' steps: with a state-dependent
   // K_z (two lane_math::log a step) the step exceeds GCC's inlining limits, and a call inside
   // the kernel's lane loop stops it from vectorising (scene B ran 55x slower than A).
-  template <Scene S, Carry carry, class T>
+  //
+  // P, the coefficients' number type, is T or double: the tangent step (T = Dual<double>) takes
+  // them as plain doubles (plain_coefficients), which spares the products with their zero
+  // derivative parts; the value parts are the same operations either way.
+  static constexpr bool plain_coefficients = true;
+
+  template <Scene S, Carry carry, class T, class C, class P>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
-                                                        const ParamsOf<S, T>& c, const Coef<T>& k) {
+                                                        const C& c, const Coef<P>& k) {
     using lane_math::mul_add;  // x + h·f as one rounding (lane_math.hpp)
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
-    const T hh = k.half_h;
+    using Factor = std::conditional_t<S::kz_constant, P, T>;  // λ factors: per lane or per step
+    const P hh = k.half_h;
     const T t0 = x.t, t_half = x.t + hh, t1 = x.t + k.h;
 
     if constexpr (p_in_forces<S>()) start<S>(x, c);
 
-    T inv_a, a{};
+    Factor inv_a;
+    T a{};
     if constexpr (S::kz_constant) {
       inv_a = k.inv_a;
     } else {
@@ -119,7 +127,8 @@ struct HybridLeapfrog {
     });
 
     // End forces K_q^{n+1}, K_z^{n+1}, and p^{n+1} = b·p^{n+½} − h/2·K_q^{n+1}.
-    T b = k.b;
+    Factor b{};  // state-dependent K_z: set by end_forces_at
+    if constexpr (S::kz_constant) b = k.b;
     auto end_forces_at = [&](const T* p) {
       if constexpr (!S::kz_constant) b = mul_add(hh, K_z<S>(x.q, p, x.z, c, t1), 1.0);
       for_each_dof<D>([&](auto i) { x.kq[i] = K_q<S, i>(x.q, p, x.z, c, t1); });

@@ -47,14 +47,14 @@ struct Rk4 {
     return false;
   }
 
-  template <Scene S, class T>
-  static void start(LaneState<S::dof, T>&, const ParamsOf<S, T>&) {}
+  template <Scene S, class T, class C>
+  static void start(LaneState<S::dof, T>&, const C&) {}
 
   // Forced inline, with everything it calls: the kernel's lane loop vectorises only if the whole
   // step is one straight block inside it (a step of this size exceeds GCC's inlining limits).
-  template <Scene S, Carry carry, class T>
+  template <Scene S, Carry carry, class T, class C>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
-                                                        const ParamsOf<S, T>& c, const Coef<T>& k) {
+                                                        const C& c, const Coef<T>& k) {
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
     constexpr bool with_mu = carry.mu && !S::kz_constant;
@@ -105,9 +105,9 @@ struct Rk4 {
     return out;
   }
 
-  template <Scene S, bool with_z, bool with_mu, class T>
+  template <Scene S, bool with_z, bool with_mu, class T, class C>
   [[gnu::always_inline]] static Point<S::dof, T> rate(const Point<S::dof, T>& y,
-                                                      const ParamsOf<S, T>& c, T t) {
+                                                      const C& c, T t) {
     Point<S::dof, T> r;
     const T kz = K_z<S>(y.q, y.p, y.z, c, t);
     T z_rate{};

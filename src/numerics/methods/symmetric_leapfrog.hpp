@@ -92,16 +92,16 @@ struct SymmetricLeapfrog {
     return S::kz_constant && !(k.a > 0.0 && k.b > 0.0);
   }
 
-  template <Scene S, class T>
-  static void start(LaneState<S::dof, T>& x, const ParamsOf<S, T>& c) {
+  template <Scene S, class T, class C>
+  static void start(LaneState<S::dof, T>& x, const C& c) {
     cache_forces<S>(x, c);
   }
 
   // Forced inline, with everything it calls: the kernel's lane loop vectorises only if the whole
   // step is one straight block inside it (a step of this size exceeds GCC's inlining limits).
-  template <Scene S, Carry carry, class T>
+  template <Scene S, Carry carry, class T, class C>
   [[gnu::always_inline, gnu::flatten]] static void step(LaneState<S::dof, T>& x,
-                                                        const ParamsOf<S, T>& c, const Coef<T>& k) {
+                                                        const C& c, const Coef<T>& k) {
     using lane_math::mul_add;  // p − h/2·K_q, q + h·K_p as one rounding (lane_math.hpp)
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
