@@ -140,8 +140,11 @@ template <Scene S, Carry carry, class Method, int W>
 // An adaptive method: every lane makes `steps` attempts (numerics/methods/dop853.hpp), each
 // from its own time with its own step; a lane at t_end attempts nothing. The lane's time, not a
 // step count, is its clock.
+// Flattened: the method's attempt (12 force evaluations) exceeds GCC's inlining limits, and the
+// lane loop vectorises only if all of it is one straight block inside it; an always_inline
+// callee is inlined before its own flatten applies, so the flatten is here, on the loop.
 template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
-inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
+[[gnu::flatten]] inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
                              const ParamsOf<S, double>& uniform, AfterStep&& after_step) {
   constexpr int D = S::dof;
   const ParamsOf<S, double> c0 = uniform;

@@ -4,11 +4,23 @@
 // take part only where the instantiation integrates them (with_z, with_mu).
 #pragma once
 
+#include <utility>
+
 #include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/partials.hpp"
 
 namespace cs::contact_field {
+
+// f(integral_constant<int, i>) for i = 0 … N − 1, forced inline all the way down: for_each_dof
+// with no inlining heuristics in between (a step of 12 rates exceeds GCC's stack-frame limits,
+// and a call left in the lane loop stops it vectorising).
+template <int N, class F>
+[[gnu::always_inline]] inline void unrolled(F&& f) {
+  [&]<int... i>(std::integer_sequence<int, i...>) __attribute__((always_inline)) {
+    (f(std::integral_constant<int, i>{}), ...);
+  }(std::make_integer_sequence<int, N>{});
+}
 
 // A point of the extended state, or a rate of change of one.
 template <int D, class T>
@@ -41,7 +53,7 @@ template <Scene S, bool with_z, bool with_mu, class T>
   const T kz = K_z<S>(y.q, y.p, y.z, c, t);
   T z_rate{};
   if constexpr (with_z) z_rate = K<S>(y.q, y.p, y.z, c, t);
-  for_each_dof<S::dof>([&](auto i) {
+  unrolled<S::dof>([&](auto i) __attribute__((always_inline)) {
     T kp = K_p<S, i>(y.q, y.p, y.z, c, t);
     r.q[i] = kp;
     r.p[i] = lane_math::mul_add(y.p[i], kz, -K_q<S, i>(y.q, y.p, y.z, c, t));

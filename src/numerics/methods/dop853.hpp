@@ -109,13 +109,13 @@ struct Dop853 {
     constexpr bool z_counts = S::z_feeds_back;
     constexpr int n = 2 * D + (z_counts ? 1 : 0);
     double e5 = 0.0, e3 = 0.0;
-    auto add = [&](double a, double b, auto m) {
-      const double sk = lane_math::mul_add(k.rtol, std::fmax(std::fabs(a), std::fabs(b)), k.atol);
+    auto add = [&](double a, double b, auto m) __attribute__((always_inline)) {
+      const double sk = lane_math::mul_add(k.rtol, max(std::fabs(a), std::fabs(b)), k.atol);
       const double d5 = dot<kRowE5, 12>(r, m) / sk, d3 = dot<kRowE3, 12>(r, m) / sk;
       e5 = lane_math::mul_add(d5, d5, e5);
       e3 = lane_math::mul_add(d3, d3, e3);
     };
-    for_each_dof<D>([&](auto i) {
+    contact_field::unrolled<D>([&](auto i) __attribute__((always_inline)) {
       add(y0.q[i], y1.q[i], std::integral_constant<int, i>{});
       add(y0.p[i], y1.p[i], std::integral_constant<int, D + i>{});
     });
@@ -128,11 +128,11 @@ struct Dop853 {
     // dop853.f: fac11 = err^expo1 with expo1 = 1/8 (beta = 0): three square roots, exact.
     const double fac11 = std::sqrt(std::sqrt(std::sqrt(err)));
     constexpr double facc1 = 1.0 / 0.333, facc2 = 1.0 / 6.0, safe = 0.9;
-    const double fac = std::fmax(facc2, std::fmin(facc1, fac11 / safe));
+    const double fac = max(facc2, min(facc1, fac11 / safe));
     double h_accepted = hs / fac;
-    h_accepted = select(last_rejected > 0.0, std::fmin(h_accepted, hs), h_accepted);
-    h_accepted = std::fmin(h_accepted, k.h_max);
-    const double h_rejected = hs / std::fmin(facc1, fac11 / safe);
+    h_accepted = select(last_rejected > 0.0, min(h_accepted, hs), h_accepted);
+    h_accepted = min(h_accepted, k.h_max);
+    const double h_rejected = hs / min(facc1, fac11 / safe);
     // Hairer's step-size underflow: 0.1·|h| ≤ |t|·uround.
     const bool underflow = active & (0.1 * std::fabs(hs) <= std::fabs(t) * 0x1p-52);
     LaneState<D> moved = x;
@@ -152,6 +152,15 @@ struct Dop853 {
   }
 
  private:
+  // Branch-free min and max (a select: std::fmin is a library call, which blocks vectorising);
+  // the second operand where the comparison fails (NaN).
+  [[gnu::always_inline]] static double min(double a, double b) {
+    return lane_math::select(a < b, a, b);
+  }
+  [[gnu::always_inline]] static double max(double a, double b) {
+    return lane_math::select(a > b, a, b);
+  }
+
   // dop853.f's nodes c_i, matrix a_ij (stages 1–12), weights b_i and error weights (scipy's
   // E5 and E3 = b − bhh), 30 digits each, read to the nearest double: rows 0–11 of kW are a's,
   // then b, E5 and E3.
@@ -241,7 +250,7 @@ struct Dop853 {
   [[gnu::always_inline]] static T dot(const contact_field::Point<D, T>* r, M) {
     constexpr int m = M::value;
     T s = kW[row][0] * at<m>(r[0]);
-    for_each_dof<J>([&](auto j) {
+    contact_field::unrolled<J>([&](auto j) __attribute__((always_inline)) {
       if constexpr (j > 0 && kW[row][j] != 0.0) s = lane_math::mul_add(kW[row][j], at<m>(r[j]), s);
     });
     return s;
@@ -252,7 +261,7 @@ struct Dop853 {
   [[gnu::always_inline]] static void combine(contact_field::Point<D, T>& y,
                                              const contact_field::Point<D, T>& y0, T h,
                                              const contact_field::Point<D, T>* r) {
-    for_each_dof<2 * D + 2>([&](auto m) {
+    contact_field::unrolled<2 * D + 2>([&](auto m) __attribute__((always_inline)) {
       constexpr bool integrated = m < 2 * D || (m == 2 * D && with_z) || (m == 2 * D + 1 && with_mu);
       if constexpr (integrated) at<m>(y) = lane_math::mul_add(h, dot<row, J>(r, m), at<m>(y0));
     });
@@ -264,7 +273,7 @@ struct Dop853 {
                                             const ParamsOf<S, T>& c, T t, T h,
                                             contact_field::Point<S::dof, T>* r) {
     r[0] = contact_field::rate<S, with_z, with_mu>(y0, c, t);
-    for_each_dof<11>([&](auto i0) {
+    contact_field::unrolled<11>([&](auto i0) __attribute__((always_inline)) {
       constexpr int i = i0 + 1;
       contact_field::Point<S::dof, T> y = y0;
       combine<i, i, S::dof, with_z, with_mu>(y, y0, h, r);
