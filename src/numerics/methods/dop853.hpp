@@ -96,13 +96,50 @@ struct Dop853 {
     constexpr bool with_z = carry.z || S::z_feeds_back;
     constexpr bool with_mu = carry.mu && !S::kz_constant;
     using P = contact_field::Point<D, double>;
+    const double hs = step_to_try(t, h, k);
+    P r[12];
+    stages<S, with_z, with_mu>(P{x}, c, t, hs, r);
+    conclude<S, carry>(x, t, h, last_rejected, accepted, rejected, k, r);
+  }
+
+  // The step the lane at t tries: h, or what is left to t_end when h would (nearly) reach it.
+  [[gnu::always_inline]] static double step_to_try(double t, double h, const Control& k) {
+    const bool last = (t + 1.01 * h) - k.t_end > 0.0;
+    return lane_math::select(last, k.t_end - t, h);
+  }
+
+  // Stage i's rate from y0 at t with step hs, from the rates r[0 … i − 1] (the tile computes
+  // the stages one at a time over all its lanes: engine/lane_tile.hpp).
+  template <int i, Scene S, bool with_z, bool with_mu>
+  [[gnu::always_inline]] static contact_field::Point<S::dof, double> stage(
+      const contact_field::Point<S::dof, double>& y0, const ParamsOf<S, double>& c, double t,
+      double hs, const contact_field::Point<S::dof, double>* r) {
+    if constexpr (i == 0) {
+      return contact_field::rate<S, with_z, with_mu>(y0, c, t);
+    } else {
+      contact_field::Point<S::dof, double> y = y0;
+      combine<i, i, S::dof, with_z, with_mu>(y, y0, hs, r);
+      return contact_field::rate<S, with_z, with_mu>(y, c, lane_math::mul_add(hs, kC[i], t));
+    }
+  }
+
+  // The attempt from its 12 stage rates r: the new state, the error norm, accepted or not, the
+  // next h (see the header).
+  template <Scene S, Carry carry>
+  [[gnu::always_inline]] static void conclude(LaneState<S::dof>& x, double& t, double& h,
+                                              double& last_rejected, double& accepted,
+                                              double& rejected, const Control& k,
+                                              const contact_field::Point<S::dof, double>* r) {
+    using lane_math::select;
+    constexpr int D = S::dof;
+    constexpr bool with_z = carry.z || S::z_feeds_back;
+    constexpr bool with_mu = carry.mu && !S::kz_constant;
+    using P = contact_field::Point<D, double>;
     const double left = k.t_end - t;
     const bool active = left > 0.0;
     const bool last = (t + 1.01 * h) - k.t_end > 0.0;
     const double hs = select(last, left, h);
     const P y0{x};
-    P r[12];
-    stages<S, with_z, with_mu>(y0, c, t, hs, r);
     P y1 = y0;
     combine<kRowB, 12, D, with_z, with_mu>(y1, y0, hs, r);
     // The error norm over the components that carry the dynamics.
