@@ -93,7 +93,8 @@ TYPED_TEST_SUITE(EveryMethod, AllMethods, MethodNames);
 TEST(MethodCatalog, ListsEveryMethodOnceInCatalogOrder) {
   const std::vector<std::string> expected{"hybrid_leapfrog",    "symmetric_leapfrog",
                                           "contact_splitting2", "contact_splitting4",
-                                          "contact_splitting6", "rk4"};
+                                          "contact_splitting6", "rk4",
+                                          "dop853"};
   std::vector<std::string> listed;
   for (const MethodInfo& m : method_catalog()) listed.push_back(m.name);
   EXPECT_EQ(listed, expected);

@@ -85,7 +85,31 @@ const std::vector<BadSpec> kBadSpecs = {
      "measures.trajectory cannot be combined with a grid over h"},
     {"unknown_method", kDw + "[integrator]\nmethod = \"rk5\"\n", {},
      "unknown method \"rk5\" (did you mean 'rk4'?); valid methods: hybrid_leapfrog, "
-     "symmetric_leapfrog, contact_splitting2, contact_splitting4, contact_splitting6, rk4"},
+     "symmetric_leapfrog, contact_splitting2, contact_splitting4, contact_splitting6, rk4, "
+     "dop853"},
+    // An adaptive method's tolerances, and what it does not support yet.
+    {"dop853_without_rtol", kDw + "[integrator]\nmethod = \"dop853\"\n", {},
+     "method \"dop853\" is adaptive: integrator.rtol (its relative tolerance, e.g. 1e-8) is "
+     "required"},
+    {"dop853_rtol_zero", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 0.0\n", {},
+     "integrator.rtol = 0.0: expected a finite number > 0"},
+    {"dop853_rtol_negative", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = -1e-8\n", {},
+     "integrator.rtol = -1e-08: expected a finite number > 0"},
+    {"dop853_atol_zero", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\natol = 0.0\n", {},
+     "integrator.atol = 0.0: expected a finite number > 0"},
+    {"rtol_for_fixed_step", kDw + "[integrator]\nmethod = \"rk4\"\nrtol = 1e-8\n", {},
+     "integrator.rtol is a tolerance of an adaptive method (dop853); method \"rk4\" steps at "
+     "the fixed h"},
+    {"atol_for_default_method", kDw + "[integrator]\natol = 1e-8\n", {},
+     "integrator.atol is a tolerance of an adaptive method"},
+    {"dop853_trajectory", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\ntrajectory = true\n", {},
+     "method \"dop853\" does not support measures.trajectory yet"},
+    {"dop853_basin_period", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nbasin = { period = 1.0 }\n", {},
+     "method \"dop853\" does not support measures.basin.period yet"},
+    {"dop853_lyapunov", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nlyapunov = true\n", {},
+     "method \"dop853\" does not support measures.lyapunov yet"},
+    {"dop853_step_axis", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[grid]\nh = { values = [0.01] }\n", {},
+     "does not support a grid over h yet"},
     // Wrong types.
     {"scene_name_not_string", "[scene]\nname = 3\n", {},
      "scene.name: expected a string (in quotes), got an integer 3"},

@@ -11,6 +11,10 @@
 //
 // Basins are the mappers' (mappers/basin_mapper.hpp): the runner hands them the lanes at load,
 // after each chunk (their screen) and at every look, and writes what they settled.
+//
+// An adaptive method (dop853): a chunk is `chunk` attempts of every lane, each lane at its own
+// time (LaneTile::ad); a lane is looked at when it reaches t_end, and b.n counts its attempts
+// (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax).
 #pragma once
 
 #include <cmath>
@@ -41,6 +45,8 @@ class BlockRunner {
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
   using Book = LaneBook<D>;
+  static constexpr bool kAdaptive = adaptive_method<Method>();
+  static constexpr std::int64_t kAdaptiveMaxSteps = 100000;
 
  public:
   BlockRunner(const RunPlan& plan, BlockResults& out)
@@ -55,6 +61,12 @@ class BlockRunner {
     x.t = clock_.t_start;
     uniform_coef_ = Method::template coefficients<S>(plan.spec.h, uniform_params_, x);
     steps_ = plan.spec.steps;
+    if constexpr (kAdaptive) {
+      steps_ = (kAdaptiveMaxSteps + plan.chunk - 1) / plan.chunk * plan.chunk;
+      const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
+                                             plan.spec.t_end - plan.spec.t_start};
+      main_.ad.control = fin_.ad.control = control;
+    }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
     sync_n0_ = plan.sync_first_step;
@@ -117,6 +129,7 @@ class BlockRunner {
     t.set_parameters(i, uniform_params_, uniform_coef_);
     book[i] = Book{};
     t.steps_done[i] = 0.0;
+    if constexpr (kAdaptive) t.ad.clear(i, plan_.spec.t_end, 0.0);  // idle: attempts nothing
     lyapunov_.clear(&t == &main_, i);
     mappers_.clear(slot(t, i));
     if constexpr (kFormulas) formulas_.clear(slot(t, i));
@@ -170,6 +183,7 @@ class BlockRunner {
     }
     main_.set_lane(i, x);
     main_.set_parameters(i, c, coef);
+    if constexpr (kAdaptive) main_.ad.clear(i, clock_.t_start, plan_.spec.h);
     lyapunov_.seed(i, x, c);
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
@@ -215,13 +229,15 @@ class BlockRunner {
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
       LookInt healthy = 1;
-      if constexpr (!S::kz_constant) healthy = t.broken[i] <= 0.0;  // else never set
+      if constexpr (!S::kz_constant || kAdaptive) healthy = t.broken[i] <= 0.0;  // else never set
       for (int d = 0; d < D; ++d)
         healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       countdown_[i] -= 1;
       steps_done_[i] += plan_.chunk;
       if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
-      attention_[i] = (!healthy) | (countdown_[i] <= 0) | mappers_.flag(t, i);
+      LookInt due = countdown_[i] <= 0;
+      if constexpr (kAdaptive) due |= t.ad.t[i] >= plan_.spec.t_end;
+      attention_[i] = (!healthy) | due | mappers_.flag(t, i);
     }
     mappers_.screen(t, attention_);
     if constexpr (kFormulas) formulas_.screen(attention_);
@@ -263,12 +279,18 @@ class BlockRunner {
       countdown_[i] = chunks_until_due(b.n);
       LaneState<D> x = main_.lane(i);
       x.t = clock_.at(b.n);
+      bool at_end = b.n == steps_;
+      if constexpr (kAdaptive) {
+        x.t = main_.ad.t[i];
+        if (at_end && x.t < plan_.spec.t_end) x.broken = 1.0;  // out of attempts
+        at_end = x.t >= plan_.spec.t_end || at_end;
+      }
       const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
       if (!failed) observe(i, b, x, c);
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
-      bool done = failed || b.n == steps_ || (b.basin.settled && basin_early_stop_);
+      bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
         finish(i, b, x, c, status);
         clear(main_, main_book_, i);
@@ -285,6 +307,7 @@ class BlockRunner {
     fin_.set_lane(j, main_.lane(i));
     fin_.set_parameters(j, main_.params(i), main_.coef(i));
     fin_.steps_done[j] = main_.steps_done[i];
+    if constexpr (kAdaptive) fin_.ad.copy(j, main_.ad, i);
     fin_book_[j] = main_book_[i];
     mappers_.move(i, W + j);
     lyapunov_.move(i, j);
@@ -376,6 +399,12 @@ class BlockRunner {
     // only then (a copy per lane is a cost on a map whose lanes stop early).
     const Book* book = &b;
     Book marked;
+    if constexpr (kAdaptive) {  // its lane-steps: the attempts it made, accepted or rejected
+      marked = b;
+      if (lane_slot < W) marked.n = static_cast<std::int64_t>(main_.ad.accepted[lane_slot] +
+                                                              main_.ad.rejected[lane_slot]);
+      book = &marked;
+    }
     if constexpr (carry.tangent) {
       marked = b;
       lyapunov_.finish(lane_slot, marked, status);

@@ -12,16 +12,44 @@
 #include <bit>
 #include <cstdint>
 #include <type_traits>
+#include <algorithm>
 
+#include "numerics/contact_field.hpp"
 #include "numerics/lane_state.hpp"
+#include "numerics/method_description.hpp"
 #include "physics/scene_concept.hpp"
 
 namespace cs {
+
+// An adaptive method's lanes (numerics/methods/dop853.hpp): each its own time, the step it
+// tries next, whether its last attempt was rejected, and its counts of accepted and rejected
+// attempts; the controller's settings, one for the run.
+template <class Method, int W, bool = adaptive_method<Method>()>
+struct AdaptiveLanes {};
+template <class Method, int W>
+struct AdaptiveLanes<Method, W, true> {
+  alignas(64) double t[W];
+  alignas(64) double h[W];
+  alignas(64) double last_rejected[W];
+  alignas(64) double accepted[W];
+  alignas(64) double rejected[W];
+  typename Method::Control control{};
+  void clear(int i, double t_start, double h_first) {
+    t[i] = t_start;
+    h[i] = std::min(h_first, control.h_max);
+    last_rejected[i] = accepted[i] = rejected[i] = 0.0;
+  }
+  void copy(int to, const AdaptiveLanes& from, int i) {
+    t[to] = from.t[i], h[to] = from.h[i], last_rejected[to] = from.last_rejected[i];
+    accepted[to] = from.accepted[i], rejected[to] = from.rejected[i];
+  }
+};
 
 template <Scene S, class Method, int W>
 struct LaneTile {
   static constexpr int D = S::dof;
   static constexpr int width = W;
+  static constexpr bool adaptive = adaptive_method<Method>();
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
 
@@ -44,6 +72,7 @@ struct LaneTile {
   static constexpr int kCoefFields = sizeof(Coef) / sizeof(double);
   alignas(64) double param_field[kParamFields][W];
   alignas(64) double coef_field[kCoefFields][W];
+  [[no_unique_address]] AdaptiveLanes<Method, W> ad;  // an adaptive method's alone
 
   Params params(int i) const { return gather<Params>(param_field, i); }
   Coef coef(int i) const { return gather<Coef>(coef_field, i); }
@@ -109,6 +138,87 @@ template <Scene S, Carry carry, class Method, int W>
   }
 }
 
+// An adaptive method: every lane makes `steps` attempts (numerics/methods/dop853.hpp), each
+// from its own time with its own step; a lane at t_end attempts nothing. The lane's time, not a
+// step count, is its clock. An attempt runs stage by stage over the whole tile, its rates kept
+// in `rates` (12 × (2D + 2) × W doubles, in L1): each stage's lane loop is short and its lanes
+// independent, so the out-of-order core overlaps them, where one attempt's 12 stages in a row
+// are one dependency chain of ~400 instructions per vector, longer than the core's window. The
+// same operations in the same order: the same bits as Method::attempt, lane by lane (checked on
+// the double well's 512² map). The kernel's share of that map: 11 ns per lane-attempt, 1 core.
+template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
+[[gnu::flatten]] inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
+                                              const ParamsOf<S, double>& uniform,
+                                              AfterStep&& after_step) {
+  constexpr int D = S::dof;
+  constexpr bool with_z = carry.z || S::z_feeds_back;
+  constexpr bool with_mu = carry.mu && !S::kz_constant;
+  constexpr int kStages = 12;
+  using P = contact_field::Point<D, double>;
+  const ParamsOf<S, double> c0 = uniform;
+  const typename Method::Control control = t.ad.control;
+  alignas(64) double rates[kStages][2 * D + 2][W];
+  auto state = [&](int i) __attribute__((always_inline)) {
+    P y;
+    for (int d = 0; d < D; ++d) y.q[d] = t.q[d][i], y.p[d] = t.p[d][i];
+    y.z = (carry.z || S::z_feeds_back) ? t.z[i] : 0.0;
+    y.mu = carry.mu ? t.mu[i] : 0.0;
+    return y;
+  };
+  // Rates 0 … k − 1 of lane i (the components a later stage reads: q, p, z where integrated,
+  // ln λ's rate where carried).
+  auto load_rates = [&](P* r, auto k, int i) __attribute__((always_inline)) {
+    contact_field::unrolled<decltype(k)::value>([&](auto j) __attribute__((always_inline)) {
+      for (int d = 0; d < D; ++d) r[j].q[d] = rates[j][d][i], r[j].p[d] = rates[j][D + d][i];
+      r[j].z = with_z ? rates[j][2 * D][i] : 0.0;
+      r[j].mu = carry.mu ? rates[j][2 * D + 1][i] : 0.0;
+    });
+  };
+  for (int s = 0; s < steps; ++s) {
+    contact_field::unrolled<kStages>([&](auto k) __attribute__((always_inline)) {
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        const double hs = Method::step_to_try(t.ad.t[i], t.ad.h[i], control);
+        P r[kStages];
+        load_rates(r, k, i);
+        P rk;
+        if constexpr (Uniform) {
+          rk = Method::template stage<decltype(k)::value, S, with_z, with_mu>(state(i), c0,
+                                                                              t.ad.t[i], hs, r);
+        } else {
+          rk = Method::template stage<decltype(k)::value, S, with_z, with_mu>(
+              state(i), t.params(i), t.ad.t[i], hs, r);
+        }
+        for (int d = 0; d < D; ++d) rates[k][d][i] = rk.q[d], rates[k][D + d][i] = rk.p[d];
+        if constexpr (with_z) rates[k][2 * D][i] = rk.z;
+        if constexpr (carry.mu) rates[k][2 * D + 1][i] = rk.mu;
+      }
+    });
+#pragma GCC ivdep
+    for (int i = 0; i < W; ++i) {
+      LaneState<D> x;
+      for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i], x.kq[d] = 0.0;
+      if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
+      if constexpr (carry.mu) x.mu = t.mu[i]; else x.mu = 0.0;
+      x.broken = t.broken[i];
+      x.t = t.ad.t[i];
+      P r[kStages];
+      load_rates(r, std::integral_constant<int, kStages>{}, i);
+      double lane_t = t.ad.t[i], lane_h = t.ad.h[i], last_rejected = t.ad.last_rejected[i];
+      double accepted = t.ad.accepted[i], rejected = t.ad.rejected[i];
+      Method::template conclude<S, carry>(x, lane_t, lane_h, last_rejected, accepted, rejected,
+                                          control, r);
+      for (int d = 0; d < D; ++d) t.q[d][i] = x.q[d], t.p[d][i] = x.p[d];
+      if constexpr (carry.z || S::z_feeds_back) t.z[i] = x.z;
+      if constexpr (carry.mu) t.mu[i] = x.mu;
+      t.broken[i] = x.broken;
+      t.ad.t[i] = lane_t, t.ad.h[i] = lane_h, t.ad.last_rejected[i] = last_rejected;
+      t.ad.accepted[i] = accepted, t.ad.rejected[i] = rejected;
+    }
+    after_step(s);
+  }
+}
+
 // Advance every lane of the tile by `steps` steps, calling after_step(s) after step s.
 // Parameters come from `uniform` (one set for all lanes) when Uniform, else from the tile.
 // A time-dependent scene's lane is at time t_start + n·h, n from its own step count: the same
@@ -117,6 +227,9 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
 inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, double>& uniform,
                     const typename Method::template Coef<double>& uniform_coef, double t_start,
                     double h, AfterStep&& after_step) {
+  if constexpr (adaptive_method<Method>()) {
+    return advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, after_step);
+  }
   constexpr int D = S::dof;
   const ParamsOf<S, double> c0 = uniform;
   const auto k0 = uniform_coef;

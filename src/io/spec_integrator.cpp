@@ -1,9 +1,11 @@
-// [integrator]: the method, the step h, t_start and t_end, and t_end as a whole number of steps.
+// [integrator]: the method, the step h, t_start and t_end, and t_end as a whole number of steps;
+// an adaptive method's tolerances rtol and atol (its h: the first step each lane tries).
 #include "io/spec_reader.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -22,8 +24,9 @@ constexpr std::string_view kDefaultMethod = "hybrid_leapfrog";
 
 void SpecReader::read_integrator() {
   const toml::table& t = section("integrator");
-  check_keys(t, "integrator", {"method", "h", "t_end", "t_start"});
+  check_keys(t, "integrator", {"method", "h", "t_end", "t_start", "rtol", "atol"});
   read_method(t);
+  const bool adaptive = find_method(spec_.method)->adaptive;
   spec_.h = number_or(t, "integrator", "h", scene_->default_h);
   spec_.t_start = number_or(t, "integrator", "t_start", 0.0);
   spec_.t_end = number_or(t, "integrator", "t_end", spec_.t_start + scene_->default_t_end);
@@ -36,7 +39,62 @@ void SpecReader::read_integrator() {
     fail(t.get("t_end") != nullptr ? t.get("t_end") : t.get("t_start"),
          fmt::format("integrator.t_end = {} is not after integrator.t_start = {}", spec_.t_end,
                      spec_.t_start));
+  if (adaptive) {
+    read_tolerances(t);
+    const double ratio = (spec_.t_end - spec_.t_start) / spec_.h;
+    if (!(ratio <= kMaxSteps))
+      fail(t.get("h"), fmt::format("integrator.{} / h = {:.6g}: expected at most 2^53",
+                                   duration_name(), ratio));
+    spec_.steps = std::max<std::int64_t>(1, std::llround(ratio));  // nominal: sizes blocks
+    return;
+  }
+  for (const char* key : {"rtol", "atol"})
+    if (const toml::node* node = t.get(key))
+      fail(node, fmt::format("integrator.{} is a tolerance of an adaptive method (dop853); "
+                             "method {} steps at the fixed h",
+                             key, toml_string(spec_.method)));
   spec_.steps = whole_steps(t.get("t_end") != nullptr ? t.get("t_end") : t.get("h"));
+}
+
+// rtol (required: no default tolerance serves every scene) and atol (default: rtol), both > 0
+// and finite.
+void SpecReader::read_tolerances(const toml::table& t) {
+  const toml::node* rtol = t.get("rtol");
+  if (rtol == nullptr)
+    fail(t.get("method"), fmt::format("method {} is adaptive: integrator.rtol (its relative "
+                                      "tolerance, e.g. 1e-8) is required",
+                                      toml_string(spec_.method)));
+  spec_.rtol = number(*rtol, "integrator.rtol");
+  if (!(spec_.rtol > 0.0) || !std::isfinite(spec_.rtol))
+    fail_value(*rtol, "integrator.rtol", "a finite number > 0");
+  spec_.atol = number_or(t, "integrator", "atol", spec_.rtol);
+  if (!(spec_.atol > 0.0) || !std::isfinite(spec_.atol))
+    fail_value(*t.get("atol"), "integrator.atol", "a finite number > 0");
+}
+
+// What an adaptive method does not do yet, refused by name (its lanes step to their own times:
+// nothing is sampled between steps yet, dense output being still to come).
+void SpecReader::check_adaptive_measures() const {
+  if (!find_method(spec_.method)->adaptive) return;
+  const Measures& m = spec_.measures;
+  auto refuse = [&](std::string_view what, std::string_view why) {
+    fail(section("integrator").get("method"),
+         fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
+                     why));
+  };
+  const char* between = "its lanes step to times of their own, and values between two steps "
+                        "need dense output, not yet written; use a fixed-step method";
+  if (m.trajectory) refuse("measures.trajectory", between);
+  if (m.sync) refuse("measures.sync", between);
+  if (m.observe) refuse("measures.observe", between);
+  if (m.stop) refuse("measures.stop", between);
+  if (m.lyapunov)
+    refuse("measures.lyapunov", "the tangent of an adaptive step is not written");
+  if (m.basin && m.basin->period)
+    refuse("measures.basin.period", "the stroboscopic map samples between steps (dense output)");
+  for (const GridAxis& axis : spec_.axes)
+    if (axis.is_step_size)
+      refuse("a grid over h", "h is only its first step; vary integrator.rtol in runs of their own");
 }
 
 void SpecReader::read_method(const toml::table& t) {

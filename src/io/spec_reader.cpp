@@ -20,6 +20,7 @@ RunSpec SpecReader::read() {
   read_integrator();
   read_grid();
   read_measures();
+  check_adaptive_measures();
   read_title();
   return std::move(spec_);
 }

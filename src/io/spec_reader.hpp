@@ -100,6 +100,9 @@ class SpecReader {
   void read_integrator();
   void read_method(const toml::table& t);
   Names usable_methods() const;
+  void read_tolerances(const toml::table& t);
+  // Measures an adaptive method does not support yet: an InputError naming them.
+  void check_adaptive_measures() const;
   // How messages name the run's duration: plain t_end for the common start at 0.
   std::string duration_name() const;
   // (t_end − t_start) / h as a whole number of steps; `at` is the node to blame (t_end, else h,

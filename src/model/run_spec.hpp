@@ -124,7 +124,12 @@ struct RunSpec {
   double h = 0.0;
   double t_start = 0.0;                      // the time of the initial state
   double t_end = 0.0;
-  std::int64_t steps = 0;                    // (t_end − t_start) / h, a whole number (checked)
+  std::int64_t steps = 0;                    // (t_end − t_start) / h, a whole number (checked);
+                                             // for an adaptive method the nearest whole number
+                                             // (block sizes, progress), its lanes step to t_end
+  // An adaptive method's tolerances (integrator.rtol, atol; required by it, refused by the
+  // others): each lane's local error estimate is kept below atol + rtol·|y| (h: its first step).
+  double rtol = 0.0, atol = 0.0;
   std::vector<GridAxis> axes;                // first varies slowest; empty: one trajectory
   Measures measures;
   std::string spec_text;                     // the TOML after --set, as stored in the output

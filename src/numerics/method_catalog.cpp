@@ -14,7 +14,7 @@ MethodInfo info_of() {
   constexpr const MethodDescription& d = Method::description;
   return {std::string(d.name), d.order, std::string(d.properties),
           std::vector<std::string>(d.needs_split_parts.begin(), d.needs_split_parts.end()),
-          d.force_evaluations_per_step};
+          d.force_evaluations_per_step, d.adaptive};
 }
 
 }  // namespace

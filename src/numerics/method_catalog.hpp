@@ -14,6 +14,7 @@ struct MethodInfo {
   std::string properties;        // one line for `contactsweep methods`
   std::vector<std::string> needs_split_parts;  // empty: works on any scene
   int force_evaluations_per_step;
+  bool adaptive = false;  // error-controlled per lane: takes integrator.rtol and atol
 };
 
 const std::vector<MethodInfo>& method_catalog();

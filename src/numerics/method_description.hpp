@@ -27,7 +27,17 @@ struct MethodDescription {
   std::span<const std::string_view> needs_split_parts{};  // empty: works on any scene
   int force_evaluations_per_step = 0;
   std::string_view documentation;  // when to choose it (README, "Which method when")
+  // Error-controlled, each lane its own step (integrator.rtol/atol; the type then has
+  // `adaptive = true`, Control and attempt: engine/lane_tile.hpp's advance_adaptive).
+  bool adaptive = false;
 };
+
+// Whether the method steps each lane adaptively (its type says `adaptive = true`).
+template <class Method>
+constexpr bool adaptive_method() {
+  if constexpr (requires { Method::adaptive; }) return Method::adaptive;
+  else return false;
+}
 
 // A method's C++ type and header, as the run-time kernel source spells them: written for every
 // method by the generated numerics/method_list.hpp (the primary template is never defined).

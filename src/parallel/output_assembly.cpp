@@ -68,7 +68,12 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
   number["h"] = h_axis ? nan : plan.spec.h;
   number["t_start"] = plan.spec.t_start;
   number["t_end"] = plan.spec.t_end;
-  number["steps"] = h_axis ? nan : static_cast<double>(plan.spec.steps);
+  // An adaptive method's lanes take steps of their own: no step count, h their first step.
+  number["steps"] = h_axis || plan.method.adaptive ? nan : static_cast<double>(plan.spec.steps);
+  if (plan.method.adaptive) {
+    number["rtol"] = plan.spec.rtol;
+    number["atol"] = plan.spec.atol;
+  }
   number["mpi_ranks"] = ranks;
   number["omp_threads"] = threads;  // the largest of any rank: ranks may differ
   return layout;

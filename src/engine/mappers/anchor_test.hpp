@@ -4,7 +4,9 @@
 // period), and starts again from where the lane is when it does not; `dwell` looks in a run settle
 // the lane, from the run's first look. Measured against the fixed anchor, not the previous look:
 // a lane creeping past a saddle by less than the tolerance per look would otherwise pass for
-// settled.
+// settled. With an adaptive method (plan.method.adaptive) the run is measured in the lanes' own
+// time: a lane settles once it has stayed near its anchor for `dwell` time units (its looks are
+// `chunk` attempts apart, which span any time).
 #pragma once
 
 #include <cmath>
@@ -22,7 +24,7 @@ class AnchorTest {
 
  public:
   AnchorTest(const RunPlan& plan, bool active, LaneClock clock)
-      : plan_(plan), active_(active), clock_(clock) {
+      : plan_(plan), active_(active), timed_(plan.method.adaptive), clock_(clock) {
     for (int k = 0; k < N && active; ++k) {
       angle_period_[k] = plan.attractors.angle_period[static_cast<std::size_t>(k)];
       angle_frequency_[k] = angle_period_[k] > 0.0 ? 1.0 / angle_period_[k] : 0.0;
@@ -36,6 +38,7 @@ class AnchorTest {
     if (slot >= W) return;
     disarm(slot);
     near_[slot] = 0.0;
+    anchor_time_[slot] = 0.0;
     dwell_needed_[slot] = std::numeric_limits<double>::infinity();
     for (int k = 0; k < N; ++k) anchor_[k][slot] = 0.0;
   }
@@ -43,13 +46,26 @@ class AnchorTest {
   // Settles a lane whose run has lasted `dwell` looks (only main lanes are screened).
   template <class Lane, class Params>
   void look(int slot, std::int64_t n, const Lane& x, const Params&, Settlement<N>& s) {
+    if constexpr (requires { x.t; }) {
+      if (timed_) {
+        if (slot >= W || !(x.t - anchor_time_[slot] >= dwell_needed_[slot])) return;
+        settle(x, s);
+        s.settle_time = anchor_time_[slot];
+        return;
+      }
+    }
     if (slot >= W || !(near_[slot] >= dwell_needed_[slot])) return;
+    settle(x, s);
+    s.settle_time = clock_.at(n - static_cast<std::int64_t>(near_[slot]) * plan_.chunk);
+  }
+
+  template <class Lane>
+  void settle(const Lane& x, Settlement<N>& s) const {
     typename CycleTracker<N>::Point point;
     for (int d = 0; d < D; ++d) point[d] = x.q[d], point[D + d] = x.p[d];
     s.settled = true;
     s.period = 1;
     s.point = CycleTracker<N>::reduced(point, plan_.attractors);
-    s.settle_time = clock_.at(n - static_cast<std::int64_t>(near_[slot]) * plan_.chunk);
   }
 
   // A run starts afresh at x.
@@ -59,6 +75,10 @@ class AnchorTest {
     for (int d = 0; d < D; ++d) anchor_[d][slot] = x.q[d], anchor_[D + d][slot] = x.p[d];
     near_[slot] = 0.0;
     dwell_needed_[slot] = plan_.attractors.dwell_samples;
+    if (timed_) {
+      if constexpr (requires { x.t; }) anchor_time_[slot] = x.t;
+      dwell_needed_[slot] = plan_.spec.measures.basin->dwell;
+    }
     armed_count_ += !armed_[slot];
     armed_[slot] = true;
   }
@@ -101,7 +121,12 @@ class AnchorTest {
         anchor_[d][i] = near ? anchor_[d][i] : t.q[d][i];
         anchor_[D + d][i] = near ? anchor_[D + d][i] : t.p[d][i];
       }
-      attention[i] |= near_[i] >= dwell_needed_[i];
+      if constexpr (Tile::adaptive) {
+        anchor_time_[i] = near ? anchor_time_[i] : t.ad.t[i];
+        attention[i] |= t.ad.t[i] - anchor_time_[i] >= dwell_needed_[i];
+      } else {
+        attention[i] |= near_[i] >= dwell_needed_[i];
+      }
     }
   }
 
@@ -115,12 +140,15 @@ class AnchorTest {
 
   const RunPlan& plan_;
   bool active_;
+  bool timed_;  // an adaptive method's lanes: dwell in time units, from anchor_time_
   LaneClock clock_;
   double angle_period_[N] = {}, angle_frequency_[N] = {};
   bool has_angles_ = false;
   alignas(64) double anchor_[N][W];     // where each lane's current run near a point began
   alignas(64) double near_[W];          // looks since then, all within the tolerance
-  alignas(64) double dwell_needed_[W];  // looks that settle a lane (∞: not searching)
+  alignas(64) double dwell_needed_[W];  // looks that settle a lane (∞: not searching; timed:
+                                        // time units)
+  alignas(64) double anchor_time_[W];   // timed: the lane's time at its anchor
   bool armed_[W] = {};                  // searching (dwell_needed_ finite)
   int armed_count_ = 0;
 };

@@ -63,7 +63,7 @@ class EnergyTrap {
 
   // Settles a lane whose energy has fallen below its trap level, at its well's minimum.
   template <class Lane>
-  void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
+  void look(int slot, std::int64_t, const Lane& x, const Params& c, Settlement<N>& s) {
     if constexpr (has_energy_trap<S>()) {
       const Wells<D>& wells = wells_of(c);
       for (int d = 0; d < D; ++d)
@@ -78,7 +78,7 @@ class EnergyTrap {
       s.settled = true;
       s.period = 1;
       for (int d = 0; d < D; ++d) s.point[d] = bottom[d], s.point[D + d] = 0.0;
-      s.settle_time = clock_.at(n);
+      s.settle_time = x.t;  // clock_.at(n), or an adaptive lane's own time
     }
   }
 

@@ -33,7 +33,8 @@ class Recurrences {
   static constexpr int N = 2 * D;
 
  public:
-  Recurrences(const RunPlan& plan, bool active, LaneClock clock) : active_(active), clock_(clock) {
+  Recurrences(const RunPlan& plan, bool active, LaneClock clock)
+      : active_(active), timed_(plan.method.adaptive), clock_(clock) {
     if (!active) return;
     const RecurrenceSearch& r = plan.recurrence;
     std::array<double, N> lower{}, upper{}, size{}, period{};
@@ -74,6 +75,9 @@ class Recurrences {
       s.period = 0;
       s.point = grid_.centre(tracker.representative());
       s.settle_time = clock_.at(start_ + tracker.settle_sample() * every_);
+      // An adaptive method's looks are attempts apart, not time: the time of this look, a bound.
+      if constexpr (requires { x.t; })
+        if (timed_) s.settle_time = x.t;
     } else if (finished(tracker.state())) {
       next_[slot] = -1;  // gave up (left the box, too many cells): record() says why
       if (slot < W) disarm(slot);
@@ -166,6 +170,7 @@ class Recurrences {
   }
 
   bool active_;
+  bool timed_;
   LaneClock clock_;
   CellGrid<N> grid_;
   RecurrenceOptions options_;

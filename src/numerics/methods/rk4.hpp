@@ -9,6 +9,7 @@
 // is constant its exact increment −h·K_z (which RK4 reproduces) is precomputed per lane.
 #pragma once
 
+#include "numerics/contact_field.hpp"
 #include "numerics/lane_state.hpp"
 #include "numerics/method_description.hpp"
 #include "physics/partials.hpp"
@@ -58,7 +59,9 @@ struct Rk4 {
     constexpr int D = S::dof;
     constexpr bool with_z = carry.z || S::z_feeds_back;
     constexpr bool with_mu = carry.mu && !S::kz_constant;
-    using P = Point<D, T>;
+    using P = contact_field::Point<D, T>;
+    using contact_field::axpy;
+    using contact_field::rate;
     const P x0{x};
     const T t_half = x.t + k.half_h, t1 = x.t + k.h;
     const P k1 = rate<S, with_z, with_mu>(x0, c, x.t);
@@ -80,48 +83,6 @@ struct Rk4 {
       x.mu = x.mu + k.dmu;
   }
 
- private:
-  // A point of the extended state, or a rate of change of one.
-  template <int D, class T>
-  struct Point {
-    T q[D], p[D], z, mu;
-    Point() = default;
-    explicit Point(const LaneState<D, T>& x) : z(x.z), mu(x.mu) {
-      for (int i = 0; i < D; ++i) q[i] = x.q[i], p[i] = x.p[i];
-    }
-  };
-
-  // y + a·r, fused
-  template <bool with_z, bool with_mu, int D, class T>
-  [[gnu::always_inline]] static Point<D, T> axpy(const Point<D, T>& y, T a, const Point<D, T>& r) {
-    using lane_math::mul_add;
-    Point<D, T> out;
-    for (int i = 0; i < D; ++i) {
-      out.q[i] = mul_add(a, r.q[i], y.q[i]);
-      out.p[i] = mul_add(a, r.p[i], y.p[i]);
-    }
-    out.z = with_z ? mul_add(a, r.z, y.z) : y.z;
-    out.mu = with_mu ? mul_add(a, r.mu, y.mu) : y.mu;
-    return out;
-  }
-
-  template <Scene S, bool with_z, bool with_mu, class T, class C>
-  [[gnu::always_inline]] static Point<S::dof, T> rate(const Point<S::dof, T>& y,
-                                                      const C& c, T t) {
-    Point<S::dof, T> r;
-    const T kz = K_z<S>(y.q, y.p, y.z, c, t);
-    T z_rate{};
-    if constexpr (with_z) z_rate = K<S>(y.q, y.p, y.z, c, t);
-    for_each_dof<S::dof>([&](auto i) {
-      T kp = K_p<S, i>(y.q, y.p, y.z, c, t);
-      r.q[i] = kp;
-      r.p[i] = lane_math::mul_add(y.p[i], kz, -K_q<S, i>(y.q, y.p, y.z, c, t));
-      if constexpr (with_z) z_rate = lane_math::mul_add(-y.p[i], kp, z_rate);
-    });
-    r.z = z_rate;
-    r.mu = -kz;
-    return r;
-  }
 };
 
 }  // namespace cs
