@@ -167,6 +167,10 @@ const BadCase kBadCases[] = {
     {"q^2^3", {"column 4", "ambiguous"}},
     {"q**2", {"column 2", "'**'", "^"}},
     {"1/0 + q", {"division by zero at column 2"}},
+    // a zero base under a non-positive exponent: refused before GiNaC (it leaks when it throws)
+    {"p + (q-q)^0", {"the power at column 10", "0^0"}},
+    {"p + (q-q)^(q-q)", {"the power at column 10", "0^0"}},
+    {"p + (q-q)^-2", {"division by zero at column 10"}},
     {"log(0)*q", {"log(0) at column 1", "no finite value"}},
     {"q + 1e400", {"1e400 at column 5", "range"}},
     // constants: exact to the double, or refused (issue 22, item 7)

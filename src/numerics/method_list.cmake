@@ -6,6 +6,7 @@
 # check that each type exists and that its description.name is its file's name.
 #
 # In:  METHODS_DIR (src/numerics/methods), METHOD_LIST_HEADER (the file to write).
+# Out: METHOD_NAMES, METHOD_TYPES (the methods' file names and types, in the list's order).
 include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/write_if_changed.cmake)
 
 file(GLOB method_files CONFIGURE_DEPENDS RELATIVE ${METHODS_DIR} ${METHODS_DIR}/*.hpp)
@@ -13,6 +14,7 @@ list(SORT method_files)  # a stable order: by file name (the catalog sorts by ca
 
 set(includes "")
 set(types "")
+set(names "")
 set(sources "")
 foreach(file IN LISTS method_files)
   string(REGEX REPLACE "\\.hpp$" "" name ${file})
@@ -31,6 +33,7 @@ foreach(file IN LISTS method_files)
   set(header "numerics/methods/${file}")
   string(APPEND includes "#include \"${header}\"\n")
   list(APPEND types ${type})
+  list(APPEND names ${name})
   string(APPEND sources
          "template <>\nstruct MethodSourceOf<${type}> {\n"
          "  static constexpr MethodSource value{\"${type}\", \"${header}\"};\n};\n"
@@ -53,3 +56,5 @@ using Methods = MethodList<${type_list}>;
 ${sources}}  // namespace cs
 ")
 write_if_changed(${METHOD_LIST_HEADER} "${text}")
+set(METHOD_NAMES ${names})
+set(METHOD_TYPES ${types})
