@@ -24,33 +24,12 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
-    failures += not ok
-
-
-def run(spec_text, name, *extra, ranks=0, threads=1):
-    spec = os.path.join(work, name + ".toml")
-    out = os.path.join(work, name + ".h5")
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    command = [binary, "run", spec, "-o", out, "--force", "--quiet", *extra]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    if ranks:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-    result = subprocess.run(command, env=env, capture_output=True, text=True)
-    if result.returncode != 0:
-        check(f"{name} runs", False, result.stderr.strip()[-2000:])
-        return None
-    return h5py.File(out, "r")
+runs = Runs(binary, mpiexec, work, compare=compare)  # makes work/, its kernel cache
+check, run = runs.check, runs.run
 
 
 def table(f):
@@ -197,9 +176,8 @@ for mode, basin, gamma, t_end in (("trap", "{}", 0.08, 150), ("online", "{ exact
             check("magnetic pendulum at gamma = 0.08: a fractal map (S_bb > ln 2), all decided",
                   f.attrs["boundary_basin_entropy"] > math.log(2) and (f["basin"][...] != 0).all(),
                   str(f.attrs["boundary_basin_entropy"]))
-    result = subprocess.run([sys.executable, compare, *outputs], capture_output=True, text=True)
-    check(f"magnetic pendulum ({mode}): 1x1, 1x2, 2x1, 3x1 give the same bits",
-          len(outputs) == 4 and result.returncode == 0, result.stdout[-1500:] + result.stderr[-500:])
+    runs.same_bits(f"magnetic pendulum ({mode}): 1x1, 1x2, 2x1, 3x1 give the same bits", *outputs,
+                   count=4)
 
 # --- a forced linear oscillator: its one periodic orbit, in closed form -------------------------
 OMEGA0, GAMMA_F, F, OMEGA = 1.0, 0.3, 0.5, 2.0
@@ -257,5 +235,4 @@ if none:
           (none["basin"][...] == 0).all() and none["attractor"].shape == (0,)
           and np.isnan(none["settle_time"][...]).all() and none.attrs["undecided_fraction"] == 1.0)
 
-print(f"{'all checks passed' if failures == 0 else f'{failures} check(s) failed'}")
-sys.exit(1 if failures else 0)
+runs.finish()

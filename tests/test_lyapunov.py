@@ -20,45 +20,29 @@
 * Bad input: exit 2, the key named, nothing written.
 """
 import os
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import Runs, launch  # noqa: E402
+from contactsweep_runs import Runs, read  # noqa: E402
+from damped_oscillator import expm, generator, rk4_step  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-runs = Runs(binary, mpiexec, work, details=True)  # makes work/, the kernel cache in it
+runs = Runs(binary, mpiexec, work, details=True, compare=compare)  # makes work/, its kernel cache
 check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1, expect=0):
-    out = os.path.join(work, name + ".h5")
-    if os.path.exists(out):
-        os.remove(out)
-    out, result = launch(binary, mpiexec, work, spec_text, name, ranks=ranks, threads=threads)
-    if result.returncode != expect:
-        check(f"{name} exits {expect}", False, result.stderr.strip()[-2000:])
-        return None, result.stderr
+    out, result = runs.launch(spec_text, name, ranks=ranks, threads=threads, expect=expect)
     return out, result.stderr
-
-
-def read(path, *names):
-    with h5py.File(path) as f:
-        return [f[n][()] for n in names]
 
 
 # ---- damped linear oscillator: closed forms --------------------------------------------------
 OMEGA, GAMMA, H, T = 1.0, 0.1, 0.01, 100.0
 N = round(T / H)
-A = np.array([[0.0, 1.0], [-OMEGA**2, -GAMMA]])  # q' = p, p' = -w^2 q + p K_z, K_z = -gamma
-
-
-def expm(a):
-    w, v = np.linalg.eig(a)
-    return (v @ np.diag(np.exp(w)) @ np.linalg.inv(v)).real
+A = generator(OMEGA, GAMMA)
 
 
 def step_matrix(method, h):
@@ -67,8 +51,7 @@ def step_matrix(method, h):
         kick = np.array([[1.0, 0.0], [-h / 2 * OMEGA**2, 1.0]])
         drift = np.array([[1.0, h], [0.0, 1.0]])
         return z @ kick @ drift @ kick @ z
-    ha = h * A  # rk4 on a linear field: the Taylor polynomial of degree 4
-    return np.eye(2) + ha + ha @ ha / 2 + ha @ ha @ ha / 6 + ha @ ha @ ha @ ha / 24
+    return rk4_step(A, h)
 
 
 def growth(matrix, v):
@@ -216,9 +199,7 @@ first, _ = run(SPLIT, "split_1x1")
 for ranks, threads in [(0, 2), (2, 1)]:
     other, _ = run(SPLIT, f"split_{max(ranks, 1)}x{threads}", ranks=ranks, threads=threads)
     if first and other:
-        same = subprocess.run([sys.executable, compare, first, other], capture_output=True, text=True)
-        check(f"{max(ranks, 1)} x {threads} ranks x threads: same bits as 1 x 1", same.returncode == 0,
-              same.stdout + same.stderr)
+        runs.same_bits(f"{max(ranks, 1)} x {threads} ranks x threads: same bits as 1 x 1", first, other)
 plain, _ = run(DUFFING.format(t=10.05, n=32, lyapunov=""), "split_without")
 if first and plain:
     a = read(first, "final_q", "final_p")
@@ -244,5 +225,4 @@ for label, value, key in [
     check(f"bad input ({label}): exit 2 naming {key}, nothing written",
           out is not None and key in err and not os.path.exists(out), err.strip())
 
-print(f"{runs.failures} failure(s)")
-sys.exit(1 if runs.failures else 0)
+runs.finish()

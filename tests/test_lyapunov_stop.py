@@ -21,45 +21,30 @@ ln(|M^n_e v| / |M^n_a v|) / ((n_e - n_a) h) exactly (to rounding), v = (1, 1).
 """
 import math
 import os
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import Runs, launch  # noqa: E402
+from contactsweep_runs import Runs, read  # noqa: E402
+from damped_oscillator import expm, generator, rk4_step  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-runs = Runs(binary, mpiexec, work, details=True)
+runs = Runs(binary, mpiexec, work, details=True, compare=compare)
 check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1):
-    out, result = launch(binary, mpiexec, work, spec_text, name, ranks=ranks, threads=threads)
-    if result.returncode != 0:
-        check(f"{name} runs", False, result.stderr.strip()[-2000:])
-        return None
-    return out
-
-
-def read(path, *names):
-    with h5py.File(path) as f:
-        return [f[n][()] for n in names]
+    return runs.launch(spec_text, name, ranks=ranks, threads=threads)[0]
 
 
 OMEGA, GAMMA, H = 1.0, 0.1, 0.01
-A = np.array([[0.0, 1.0], [-OMEGA**2, -GAMMA]])
-HA = H * A
-M = np.eye(2) + HA + HA @ HA / 2 + HA @ HA @ HA / 6 + HA @ HA @ HA @ HA / 24  # rk4's step
+A = generator(OMEGA, GAMMA)
+M = rk4_step(A, H)
 V0 = np.array([1.0, 1.0])
 W_D = math.sqrt(OMEGA**2 - GAMMA**2 / 4)
 T_ZERO = (math.pi - math.atan(2 * W_D / GAMMA)) / W_D  # first zero of q from (q, p) = (q0, 0)
-
-
-def expm(a):
-    w, v = np.linalg.eig(a)
-    return (v @ np.diag(np.exp(w)) @ np.linalg.inv(v)).real
 
 
 def numerical(n_a, n_e):
@@ -202,9 +187,8 @@ for ranks, threads in [(0, 2), (2, 1)]:
     other = run(DUFFING.replace("{lyapunov}", "lyapunov = {}"), f"all_{max(ranks, 1)}x{threads}",
                 ranks=ranks, threads=threads)
     if first and other:
-        same = subprocess.run([sys.executable, compare, first, other], capture_output=True, text=True)
-        check(f"all three measures, {max(ranks, 1)} x {threads} ranks x threads: same bits as 1 x 1",
-              same.returncode == 0, same.stdout + same.stderr)
+        runs.same_bits(f"all three measures, {max(ranks, 1)} x {threads} ranks x threads: same bits as 1 x 1",
+                       first, other)
 plain = run(DUFFING.replace("{lyapunov}", ""), "all_without")
 if first and plain:
     with h5py.File(first) as f, h5py.File(plain) as g:
@@ -213,5 +197,4 @@ if first and plain:
         check("every other dataset the same bits with and without lyapunov", not differ and "lyapunov" not in g,
               f"differ: {differ}")
 
-print(f"{runs.failures} failure(s)")
-sys.exit(1 if runs.failures else 0)
+runs.finish()

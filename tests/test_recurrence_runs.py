@@ -21,40 +21,24 @@ candidates of several blocks, and of two ranks, are merged, and:
     `period` given for this K without t is named as the likely mistake.
 """
 import os
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 from scipy.integrate import solve_ivp
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
 binary, mpiexec, compare, work = sys.argv[1:5]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
-    failures += not ok
+runs = Runs(binary, mpiexec, work, compare=compare)  # makes work/, its kernel cache
+check = runs.check
 
 
 def run(spec_text, name, ranks=0, threads=1):
-    spec = os.path.join(work, name + ".toml")
-    out = os.path.join(work, name + ".h5")
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    command = [binary, "run", spec, "-o", out, "--force"]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    if ranks:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        command = [mpiexec, "--oversubscribe", "-np", str(ranks), "--bind-to", "none"] + command
-    result = subprocess.run(command, env=env, capture_output=True, text=True)
-    if result.returncode != 0:
-        check(f"{name} runs", False, result.stderr.strip()[-2000:])
-        return None, ""
-    return out, result.stdout + result.stderr
+    """The output's path and the log (None and "" when the run fails)."""
+    out, result = runs.launch(spec_text, name, ranks=ranks, threads=threads, quiet=False)
+    return (out, result.stdout + result.stderr) if out else (None, "")
 
 
 VDP = """
@@ -106,9 +90,7 @@ if out:
         name = f"vdp_{max(ranks, 1)}x{threads}"
         other, _ = run(VDP.format(t_end=T_END, basin=BASIN), name, ranks=ranks, threads=threads)
         if other:
-            same = subprocess.run([sys.executable, compare, out, other], capture_output=True,
-                                  text=True)
-            check(f"{name} has the bits of 1x1", same.returncode == 0, same.stdout + same.stderr)
+            runs.same_bits(f"{name} has the bits of 1x1", out, other)
 
 # Too short for the recurrences: 30 time units are ~94 looks, fewer than 100 revisits.
 short, log = run(VDP.format(t_end=30.0, basin=BASIN), "vdp_short")
@@ -165,8 +147,6 @@ if chaos:
               f"labels {np.unique(f['basin'][...])}, periods {f['attractor_period'][...]}")
     other, _ = run(DUFFING, "duffing_2x1", ranks=2)
     if other:
-        same = subprocess.run([sys.executable, compare, chaos, other], capture_output=True, text=True)
-        check("chaotic Duffing: 2x1 has the bits of 1x1", same.returncode == 0, same.stdout + same.stderr)
+        runs.same_bits("chaotic Duffing: 2x1 has the bits of 1x1", chaos, other)
 
-print("FAILED" if failures else "all passed")
-sys.exit(1 if failures else 0)
+runs.finish()

@@ -23,7 +23,6 @@ a closed form or an independent computation, on the showcase specs made small.
   sweeps/basins_forced_duffing_chaos.toml, made small): 3 ranks x 1 thread give the bits of
   1 x 1 (1 x 2 and 2 x 1 are in test_attractor_analysis.py and test_recurrence_runs.py).
 """
-import math
 import os
 import subprocess
 import sys
@@ -33,10 +32,10 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from contactsweep_runs import Runs, launch  # noqa: E402
+from contactsweep_runs import Runs  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
-runs = Runs(binary, mpiexec, work, details=True)  # makes work/, the kernel cache in it
+runs = Runs(binary, mpiexec, work, details=True, compare=compare)  # makes work/, its kernel cache
 check = runs.check
 SWEEPS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sweeps")
 
@@ -63,11 +62,7 @@ def spec(name, **overrides):
 
 
 def run(spec_text, name, ranks=0, threads=1):
-    out, result = launch(binary, mpiexec, work, spec_text, name, ranks=ranks, threads=threads)
-    if result.returncode != 0:
-        check(f"{name} runs", False, result.stderr.strip()[-2000:])
-        return None
-    return out
+    return runs.launch(spec_text, name, ranks=ranks, threads=threads)[0]
 
 
 # ---- Lorenz: the strange attractor and its lambda_1 ----------------------------------------------
@@ -133,8 +128,7 @@ for name, overrides in SMALL.items():
             kinds = f["attractor_kind"][...].tolist()
         check(f"{name}: the showcase's attractors at 32 x 32",
               kinds == ([1] if "van_der_pol" in name else [1, 3]), f"kinds {kinds}")
-        same = subprocess.run([sys.executable, compare, one, three], capture_output=True, text=True)
-        check(f"{name}: 3x1 has the bits of 1x1", same.returncode == 0, same.stdout + same.stderr)
+        runs.same_bits(f"{name}: 3x1 has the bits of 1x1", one, three)
 
 # ---- src/post/plot_showcases.py on these runs (the orbit diagram is not run here: skipped) ---------
 post = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "post", "plot_showcases.py")
@@ -148,5 +142,4 @@ check("plot_showcases.py draws the four runs and skips the fifth",
 check("plot_showcases.py counts the agreeing cells as this test does",
       "agree on 576 of 576 cells" in drawn.stdout, drawn.stdout)
 
-print("FAILED" if runs.failures else "all passed")
-sys.exit(1 if runs.failures else 0)
+runs.finish()
