@@ -31,34 +31,23 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
 import math
 import os
 import re
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
 binary, work = sys.argv[1:3]
-os.makedirs(work, exist_ok=True)
-os.environ.setdefault("CONTACTSWEEP_CACHE", os.path.join(work, "kernel_cache"))
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'}  {name}" + (f": {detail}" if detail and not ok else ""))
-    failures += not ok
+runs = Runs(binary, None, work)  # makes work/, its kernel cache; no run under mpiexec here
+check = runs.check
 
 
 def run(spec_text, name):
-    spec = os.path.join(work, name + ".toml")
-    out = os.path.join(work, name + ".h5")
-    with open(spec, "w") as f:
-        f.write(spec_text)
-    result = subprocess.run([binary, "run", spec, "-o", out, "--force"],
-                            env=dict(os.environ, OMP_NUM_THREADS="2"), capture_output=True,
-                            text=True)
-    if result.returncode != 0:
-        check(f"{name} runs (exit 0)", False, result.stderr.strip()[-2000:])
+    """The open output file and the log (None and the log when the run fails)."""
+    out, result = runs.launch(spec_text, name, threads=2, quiet=False)
+    if out is None:
         return None, result.stderr
     check(f"{name}: no journal left", not os.path.exists(out + ".journal"))
     return h5py.File(out, "r"), result.stderr
@@ -116,10 +105,7 @@ if f is not None:
 # integrated (exit 1, "name 'status' is used twice", journal left, the spec to be changed
 # anyway). Now it is bad input before the kernel is built.
 for clash in ("status", "attractor_cells"):
-    spec = os.path.join(work, f"clash_{clash}.toml")
-    out = os.path.join(work, f"clash_{clash}.h5")
-    with open(spec, "w") as f:
-        f.write(f"""
+    out, r = runs.launch(f"""
 [scene]
 K = "p^2/2 - cos(q) - {clash}*z"
 {clash} = 0.5
@@ -131,10 +117,9 @@ t_end = 10.0
 q_0 = {{ from = -3.0, to = 3.0, n = 8 }}
 [measures]
 basin = {{}}
-""")
-    r = subprocess.run([binary, "run", spec, "-o", out, "--force"], capture_output=True, text=True)
+""", f"clash_{clash}", quiet=False, expect=2)
     check(f"a parameter named '{clash}': exit 2 before any work, naming it, nothing left",
-          r.returncode == 2 and f"'{clash}'" in r.stderr and "built the kernel" not in r.stderr
+          out is not None and f"'{clash}'" in r.stderr and "built the kernel" not in r.stderr
           and not os.path.exists(out) and not os.path.exists(out + ".journal"),
           f"exit {r.returncode}: {r.stderr.strip()[-300:]}")
 
@@ -255,5 +240,4 @@ if both is not None:
           (labels > 0).all() and np.allclose(both["attractor_q"][...][labels - 1],
                                              2 * math.pi * wells(q0[inner]), atol=1e-3, rtol=0))
 
-print(f"{'all checks passed' if failures == 0 else f'{failures} check(s) failed'}")
-sys.exit(1 if failures else 0)
+runs.finish()

@@ -27,6 +27,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
 from contactsweep_runs import Runs, read  # noqa: E402
+import damped_oscillator  # noqa: E402
 from damped_oscillator import expm, generator, rk4_step  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
@@ -58,20 +59,11 @@ def growth(matrix, v):
     return np.log(np.linalg.norm(matrix @ v) / np.linalg.norm(v)) / T
 
 
-OSCILLATOR = """[scene]
-name = "damped_oscillator"
-omega = {omega}
-gamma = {gamma}
-[integrator]
-method = "{method}"
-h = {h}
-t_end = {t}
-[grid]
-q_0 = {{ values = [1.0, -0.5] }}
-[measures]
-final_state = {{ vars = ["q", "p"] }}
-lyapunov = {vars}
-"""
+def oscillator(method, t_end, lyapunov):
+    return damped_oscillator.spec(OMEGA, GAMMA, method, H, t_end, "q_0 = { values = [1.0, -0.5] }",
+                                  f'final_state = {{ vars = ["q", "p"] }}\nlyapunov = {lyapunov}')
+
+
 v = np.array([1.0, 1.0])  # the default start: equal components in q and p
 wv, vecs = np.linalg.eig(A)
 bound = np.log(np.linalg.cond(vecs)) / T
@@ -79,7 +71,7 @@ flow = growth(expm(A * T), v)
 check("exact flow within ln(cond V)/T of -gamma/2", abs(flow + GAMMA / 2) <= bound,
       f"{flow} vs {-GAMMA / 2}, bound {bound:.3g}")
 for method, order in [("contact_splitting2", 2), ("rk4", 4)]:
-    out, _ = run(OSCILLATOR.format(omega=OMEGA, gamma=GAMMA, method=method, h=H, t=T, vars="{}"),
+    out, _ = run(oscillator(method, T, "{}"),
                  f"oscillator_{method}")
     if out is None:
         continue
@@ -93,8 +85,7 @@ for method, order in [("contact_splitting2", 2), ("rk4", 4)]:
     check(f"{method}: same for every initial point (linear map)", lyap[0] == lyap[1], f"{lyap}")
 
 # One direction: the tangent starts in q alone.
-out, _ = run(OSCILLATOR.format(omega=OMEGA, gamma=GAMMA, method="rk4", h=H, t=T,
-                               vars='{ vars = ["q"] }'), "oscillator_q")
+out, _ = run(oscillator("rk4", T, '{ vars = ["q"] }'), "oscillator_q")
 if out is not None:
     (lyap,) = read(out, "lyapunov")
     numerical = growth(np.linalg.matrix_power(step_matrix("rk4", H), N), np.array([1.0, 0.0]))
@@ -210,7 +201,7 @@ if first and plain:
         check("no lyapunov dataset without the measure", "lyapunov" not in f)
 
 # ---- bad input ---------------------------------------------------------------------------------
-BAD = OSCILLATOR.format(omega=OMEGA, gamma=GAMMA, method="rk4", h=H, t=1.0, vars="@VARS@")
+BAD = oscillator("rk4", 1.0, "@VARS@")
 for label, value, key in [
     ("unknown variable", '{ vars = ["q", "x"] }', "measures.lyapunov.vars[1]"),
     ("empty list", "{ vars = [] }", "measures.lyapunov.vars"),

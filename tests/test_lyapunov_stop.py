@@ -28,6 +28,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
 from contactsweep_runs import Runs, read  # noqa: E402
+import damped_oscillator  # noqa: E402
 from damped_oscillator import expm, generator, rk4_step  # noqa: E402
 
 binary, mpiexec, compare, work = sys.argv[1:5]
@@ -61,24 +62,13 @@ def flow(t_a, t_e):
 
 
 def oscillator(t_end, window="", stop="", trajectory=""):
-    return f"""[scene]
-name = "damped_oscillator"
-omega = {OMEGA}
-gamma = {GAMMA}
-[integrator]
-method = "rk4"
-h = {H}
-t_end = {t_end}
-[grid]
-q_0 = {{ values = [1.0, 2.0] }}
-[measures]
+    return damped_oscillator.spec(OMEGA, GAMMA, "rk4", H, t_end, "q_0 = { values = [1.0, 2.0] }", f"""\
 final_state = {{ vars = ["q", "p"] }}
 observe = {{ E = "p^2/2 + q^2/2" }}
 {window}
 {stop}
 {trajectory}
-lyapunov = {{}}
-"""
+lyapunov = {{}}""")
 
 
 STOP = 'stop = { when = "q < 0" }'

@@ -18,3 +18,20 @@ def rk4_step(a, h):
     """rk4's step on the linear field A: the Taylor polynomial of degree 4 of hA."""
     ha = h * a
     return np.eye(2) + ha + ha @ ha / 2 + ha @ ha @ ha / 6 + ha @ ha @ ha @ ha / 24
+
+
+def spec(omega, gamma, method, h, t_end, grid, measures):
+    """A spec of scene damped_oscillator, its [grid] and [measures] given as TOML lines."""
+    return f"""[scene]
+name = "damped_oscillator"
+omega = {omega}
+gamma = {gamma}
+[integrator]
+method = "{method}"
+h = {h}
+t_end = {t_end}
+[grid]
+{grid}
+[measures]
+{measures}
+"""
