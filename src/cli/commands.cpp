@@ -67,6 +67,8 @@ void print_methods() {
   for (const auto& m : method_catalog()) {
     fmt::print("{}\n  order {}, {} force evaluation(s) per step\n  {}\n", m.name, m.order,
                m.force_evaluations_per_step, m.properties);
+    fmt::print("  step size: {}\n", m.adaptive ? "adaptive per lane (integrator.rtol, atol)"
+                                                : "fixed (integrator.h)");
     if (!m.needs_split_parts.empty())
       fmt::print("  needs scene sub-flows: {}\n", fmt::join(m.needs_split_parts, ", "));
     fmt::print("\n");

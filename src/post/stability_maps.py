@@ -72,18 +72,18 @@ GROWTH = 10.0  # |q(t_end)| > GROWTH |q0| without status 1: unstable, but slower
 def methods_table(binary):
     """{name: (order, force evaluations per step)} from `contactsweep methods`, in its order: the
     fixed-step methods, whose stability and accuracy these charts measure over h. An adaptive
-    method (its description says so: dop853) has no h to sweep; it is left out."""
+    method ("step size: adaptive per lane") has no h to sweep; it is left out."""
     text = subprocess.run([str(binary), "methods"], check=True, capture_output=True, text=True).stdout
-    table, name, adaptive = {}, None, set()
+    table, name, fixed = {}, None, set()
     for line in text.splitlines():
         if line and not line[0].isspace():
             name = line.strip()
         m = re.match(r"\s+order (\d+), (\d+) force evaluation", line)
         if m and name:
             table[name] = (int(m[1]), int(m[2]))
-        elif name and re.search(r"\badaptive\b", line):
-            adaptive.add(name)
-    table = {k: v for k, v in table.items() if k not in adaptive}
+        elif name and re.match(r"\s+step size: fixed\b", line):
+            fixed.add(name)
+    table = {k: v for k, v in table.items() if k in fixed}
     if not table:
         sys.exit(f"cannot read the methods from `{binary} methods`:\n{text}")
     return table

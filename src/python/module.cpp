@@ -81,7 +81,8 @@ py::list methods() {
     out.append(py::dict(py::arg("name") = m.name, py::arg("order") = m.order,
                         py::arg("force_evaluations_per_step") = m.force_evaluations_per_step,
                         py::arg("properties") = m.properties,
-                        py::arg("needs_split_parts") = m.needs_split_parts));
+                        py::arg("needs_split_parts") = m.needs_split_parts,
+                        py::arg("adaptive") = m.adaptive));
   return out;
 }
 

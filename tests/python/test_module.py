@@ -200,6 +200,12 @@ def test_scenes_and_methods_are_what_the_cli_lists():
     well = next(s for s in scenes if s["name"] == "double_well")
     assert [p["name"] for p in well["parameters"]] == ["a", "gamma"]
     assert {m["name"]: m["order"] for m in methods}["rk4"] == 4
+    # The step size's kind as the CLI prints it, method by method.
+    out = subprocess.run([CLI, "methods"], capture_output=True, text=True, check=True).stdout
+    printed = [line.split(": ", 1)[1].startswith("adaptive")
+               for line in out.splitlines() if line.strip().startswith("step size:")]
+    assert printed == [m["adaptive"] for m in methods]
+    assert {m["name"]: m["adaptive"] for m in methods}["dop853"] is True
 
 
 def test_quickstart_draws_a_basin_map(tmp_path):

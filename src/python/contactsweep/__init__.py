@@ -27,7 +27,7 @@ def scenes():
 
 def methods():
     """The integrators: a list of dicts (name, order, force_evaluations_per_step, properties,
-    needs_split_parts)."""
+    needs_split_parts, adaptive: True for a method with its own step size per lane, rtol/atol)."""
     return _core.methods()
 
 
