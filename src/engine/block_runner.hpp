@@ -66,6 +66,7 @@ class BlockRunner {
       const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
+      main_.ad.sampling = fin_.ad.sampling = plan.samples > 0 || plan.map.sync_r >= 0;
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -160,6 +161,7 @@ class BlockRunner {
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
     b.point = k;
+    b.sync_n = sync_n0_;
     if constexpr (kFormulas) formulas_.clear(i);
     if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
       finish(i, b, x, c, LaneStatus::undefined_at_start);
@@ -183,7 +185,10 @@ class BlockRunner {
     }
     main_.set_lane(i, x);
     main_.set_parameters(i, c, coef);
-    if constexpr (kAdaptive) main_.ad.clear(i, clock_.t_start, plan_.spec.h);
+    if constexpr (kAdaptive) {
+      main_.ad.clear(i, clock_.t_start, plan_.spec.h);
+      main_.ad.next_sample[i] = next_event_time(b);
+    }
     lyapunov_.seed(i, x, c);
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
@@ -216,10 +221,74 @@ class BlockRunner {
       }
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
+    } else if constexpr (kAdaptive) {
+      advance_adaptive<S, Method, carry, Uniform>(
+          t, steps, uniform_params_, [](int) {},
+          [&](int i, const auto& dense) { dense_samples(t, i, dense); });
     } else {
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
     }
+  }
+
+  // ---- an adaptive method's samples (dense output) -------------------------------------------
+
+  // The time of the lane's next trajectory sample, +∞ when it has them all.
+  double next_sample_time(const Book& b) const {
+    return b.samples_recorded < plan_.samples
+               ? plan_.sample_times[static_cast<std::size_t>(b.samples_recorded)]
+               : INFINITY;
+  }
+  // The time of its next sync sample (steps sync_n0_, + chunk, … sync_n1_ of the nominal
+  // clock, as a fixed-step lane's looks), +∞ when it has them all or there is no sync.
+  double next_sync_time(const Book& b) const {
+    return plan_.map.sync_r >= 0 && b.sync_n <= sync_n1_ ? clock_.at(b.sync_n) : INFINITY;
+  }
+  double next_event_time(const Book& b) const {
+    return std::min(next_sample_time(b), next_sync_time(b));
+  }
+
+  // Lane i of tile t took a step that reached its next sample time: every trajectory and sync
+  // sample in the step, in time order, from the step's continuous extension (the step's end
+  // from the state itself). A state that has failed (diverged, not finite) is not sampled: its
+  // samples stay NaN, as a fixed-step lane's after it fails.
+  template <class Dense>
+  void dense_samples(Tile& t, int i, const Dense& dense) {
+    Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
+    const Params c = t.params(i);
+    const LaneState<D> end = t.lane(i);
+    for (double te = next_event_time(b); te <= t.ad.t[i]; te = next_event_time(b)) {
+      LaneState<D> x = end;
+      if (te != t.ad.t[i]) {
+        const auto y = dense.at_time(te);
+        for (int d = 0; d < D; ++d) x.q[d] = y.q[d], x.p[d] = y.p[d];
+        x.z = y.z, x.mu = y.mu;
+      }
+      x.t = te;
+      sample_at(b, x, c, te);
+    }
+    t.ad.next_sample[i] = next_event_time(b);
+  }
+
+  // The samples due at time te, from the lane's state x there.
+  void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te) {
+    LaneStatus status = LaneStatus::ok;
+    const bool failed = lane_failed(x, status);
+    if (next_sample_time(b) == te) {
+      if (!failed) writer_.record_sample(b, b.samples_recorded, x, c);
+      ++b.samples_recorded;
+    }
+    if (next_sync_time(b) == te) {
+      if (!failed) sample_sync(b, b.sync_n, x.q, x.p, c);
+      b.sync_n += plan_.chunk;
+    }
+  }
+
+  // A lane at t_end: the samples whose time rounds a hair beyond it (RunPlan::samples, the sync
+  // window's end rounded to a step) take its final state.
+  void samples_at_end(Book& b, const LaneState<D>& x, const Params& c) {
+    for (double te = next_event_time(b); te < INFINITY; te = next_event_time(b))
+      sample_at(b, x, c, te);
   }
 
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
@@ -248,7 +317,7 @@ class BlockRunner {
   // the next countdown.
   LookInt chunks_until_due(std::int64_t n) const {
     std::int64_t due = (steps_ / plan_.chunk) * plan_.chunk;
-    if (plan_.samples > 0) {
+    if (plan_.samples > 0 && !kAdaptive) {  // an adaptive lane samples as it steps
       auto every = plan_.spec.measures.trajectory->every;
       due = std::min(due, (n / every + 1) * every);
     }
@@ -289,6 +358,8 @@ class BlockRunner {
       LaneStatus status = LaneStatus::ok;
       bool failed = lane_failed(x, status);
       if (!failed) observe(i, b, x, c);
+      if constexpr (kAdaptive)
+        if (!failed && at_end) samples_at_end(b, x, c);
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -365,7 +436,8 @@ class BlockRunner {
   // Looks at the healthy lane in `lane_slot` at step b.n (a multiple of the chunk, or t_end).
   void observe(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
     if (plan_.map.basin >= 0 && !b.basin.settled) mappers_.look(lane_slot, b.n, x, c, b.basin);
-    if (plan_.samples > 0) {
+    // An adaptive lane's samples after the first come from its steps' dense output.
+    if (plan_.samples > 0 && (!kAdaptive || b.n == 0)) {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
         writer_.record_sample(b, b.n / every, x, c);
@@ -373,8 +445,12 @@ class BlockRunner {
         b.samples_recorded = b.n / every + 1;
       }
     }
-    if (plan_.map.sync_r >= 0 && b.n >= sync_n0_ && b.n <= sync_n1_ && b.n % plan_.chunk == 0)
+    // An adaptive lane's sync samples after the first come from its steps' dense output.
+    if (plan_.map.sync_r >= 0 && (!kAdaptive || b.n == 0) && b.n >= sync_n0_ &&
+        b.n <= sync_n1_ && b.n % plan_.chunk == 0) {
       sample_sync(b, b.n, x.q, x.p, c);
+      if constexpr (kAdaptive) b.sync_n = b.n + plan_.chunk;
+    }
   }
 
   // The phases' ω: the spec's, else the scene's own (natural_frequencies, scene_concept.hpp).

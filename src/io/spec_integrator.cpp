@@ -72,8 +72,10 @@ void SpecReader::read_tolerances(const toml::table& t) {
     fail_value(*t.get("atol"), "integrator.atol", "a finite number > 0");
 }
 
-// What an adaptive method does not do yet, refused by name (its lanes step to their own times:
-// nothing is sampled between steps yet, dense output being still to come).
+// What an adaptive method does not do yet, refused by name. Its lanes step to times of their
+// own; the samples of a trajectory and of sync between two steps come from the step's dense
+// output (numerics/dop853_dense.hpp), which observe, stop and the stroboscopic map do not read
+// yet.
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
   const Measures& m = spec_.measures;
@@ -82,10 +84,9 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  const char* between = "its lanes step to times of their own, and values between two steps "
-                        "need dense output, not yet written; use a fixed-step method";
-  if (m.trajectory) refuse("measures.trajectory", between);
-  if (m.sync) refuse("measures.sync", between);
+  const char* between = "its lanes step to times of their own, and this measure does not read "
+                        "the steps' dense output yet (trajectory and sync do); use a "
+                        "fixed-step method";
   if (m.observe) refuse("measures.observe", between);
   if (m.stop) refuse("measures.stop", between);
   if (m.lyapunov)
