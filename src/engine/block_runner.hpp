@@ -14,13 +14,15 @@
 //
 // An adaptive method (dop853): a chunk is `chunk` attempts of every lane, each lane at its own
 // time (LaneTile::ad); a lane is looked at when it reaches t_end, and b.n counts its attempts
-// (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax).
+// (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax);
+// its trajectory and sync samples come from its steps' dense output (dense_samples.hpp).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
+#include "engine/dense_samples.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
@@ -187,7 +189,7 @@ class BlockRunner {
     main_.set_parameters(i, c, coef);
     if constexpr (kAdaptive) {
       main_.ad.clear(i, clock_.t_start, plan_.spec.h);
-      main_.ad.next_sample[i] = next_event_time(b);
+      main_.ad.next_sample[i] = dense_samples_.next(b);
     }
     lyapunov_.seed(i, x, c);
     main_book_[i] = b;
@@ -224,71 +226,24 @@ class BlockRunner {
     } else if constexpr (kAdaptive) {
       advance_adaptive<S, Method, carry, Uniform>(
           t, steps, uniform_params_, [](int) {},
-          [&](int i, const auto& dense) { dense_samples(t, i, dense); });
+          [&](int i, const auto& dense) { dense_step(t, i, dense); });
     } else {
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
     }
   }
 
-  // ---- an adaptive method's samples (dense output) -------------------------------------------
-
-  // The time of the lane's next trajectory sample, +∞ when it has them all.
-  double next_sample_time(const Book& b) const {
-    return b.samples_recorded < plan_.samples
-               ? plan_.sample_times[static_cast<std::size_t>(b.samples_recorded)]
-               : INFINITY;
-  }
-  // The time of its next sync sample (steps sync_n0_, + chunk, … sync_n1_ of the nominal
-  // clock, as a fixed-step lane's looks), +∞ when it has them all or there is no sync.
-  double next_sync_time(const Book& b) const {
-    return plan_.map.sync_r >= 0 && b.sync_n <= sync_n1_ ? clock_.at(b.sync_n) : INFINITY;
-  }
-  double next_event_time(const Book& b) const {
-    return std::min(next_sample_time(b), next_sync_time(b));
-  }
-
-  // Lane i of tile t took a step that reached its next sample time: every trajectory and sync
-  // sample in the step, in time order, from the step's continuous extension (the step's end
-  // from the state itself). A state that has failed (diverged, not finite) is not sampled: its
-  // samples stay NaN, as a fixed-step lane's after it fails.
+  // Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
   template <class Dense>
-  void dense_samples(Tile& t, int i, const Dense& dense) {
+  void dense_step(Tile& t, int i, const Dense& dense) {
     Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
-    const Params c = t.params(i);
-    const LaneState<D> end = t.lane(i);
-    for (double te = next_event_time(b); te <= t.ad.t[i]; te = next_event_time(b)) {
-      LaneState<D> x = end;
-      if (te != t.ad.t[i]) {
-        const auto y = dense.at_time(te);
-        for (int d = 0; d < D; ++d) x.q[d] = y.q[d], x.p[d] = y.p[d];
-        x.z = y.z, x.mu = y.mu;
-      }
-      x.t = te;
-      sample_at(b, x, c, te);
-    }
-    t.ad.next_sample[i] = next_event_time(b);
+    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sync_at());
+    t.ad.next_sample[i] = dense_samples_.next(b);
   }
-
-  // The samples due at time te, from the lane's state x there.
-  void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te) {
-    LaneStatus status = LaneStatus::ok;
-    const bool failed = lane_failed(x, status);
-    if (next_sample_time(b) == te) {
-      if (!failed) writer_.record_sample(b, b.samples_recorded, x, c);
-      ++b.samples_recorded;
-    }
-    if (next_sync_time(b) == te) {
-      if (!failed) sample_sync(b, b.sync_n, x.q, x.p, c);
-      b.sync_n += plan_.chunk;
-    }
-  }
-
-  // A lane at t_end: the samples whose time rounds a hair beyond it (RunPlan::samples, the sync
-  // window's end rounded to a step) take its final state.
-  void samples_at_end(Book& b, const LaneState<D>& x, const Params& c) {
-    for (double te = next_event_time(b); te < INFINITY; te = next_event_time(b))
-      sample_at(b, x, c, te);
+  auto sync_at() {
+    return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
+      sample_sync(b, n, x.q, x.p, c);
+    };
   }
 
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
@@ -359,7 +314,7 @@ class BlockRunner {
       bool failed = lane_failed(x, status);
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
-        if (!failed && at_end) samples_at_end(b, x, c);
+        if (!failed && at_end) dense_samples_.at_end(b, x, c, sync_at());
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -554,6 +509,7 @@ class BlockRunner {
   Params uniform_params_{};
   Coef uniform_coef_{};
   LaneClock clock_;
+  DenseSamples<S> dense_samples_{plan_, writer_, clock_};  // an adaptive method's samples
   LaneState<D> idle_{};
   std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
