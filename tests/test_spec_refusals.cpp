@@ -102,6 +102,8 @@ const std::vector<BadSpec> kBadSpecs = {
      "the fixed h"},
     {"atol_for_default_method", kDw + "[integrator]\natol = 1e-8\n", {},
      "integrator.atol is a tolerance of an adaptive method"},
+    {"dop853_window_every_step", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nobserve = { E = \"q\" }\nobserve_window = { from = 1.0, to = 2.0 }\n", {},
+     "method \"dop853\" does not support measures.observe_window without measures.trajectory yet"},
     {"dop853_stop", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nstop = { when = \"q > 1\" }\n", {},
      "method \"dop853\" does not support measures.stop yet"},
     {"dop853_basin_period", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nbasin = { period = 1.0 }\n", {},

@@ -215,6 +215,11 @@ class BlockRunner {
                                             if constexpr (kFormulas)
                                               if (hooks) formulas_.after_step(t, which, s);
                                           });
+    } else if constexpr (kAdaptive) {  // its formulas read samples only (no stop, no
+                                        // every-step window: spec_integrator.cpp)
+      advance_adaptive<S, Method, carry, Uniform>(
+          t, steps, uniform_params_, [](int) {},
+          [&](int i, const auto& dense) { dense_step(t, i, dense); });
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
         advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
@@ -223,10 +228,6 @@ class BlockRunner {
       }
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
-    } else if constexpr (kAdaptive) {
-      advance_adaptive<S, Method, carry, Uniform>(
-          t, steps, uniform_params_, [](int) {},
-          [&](int i, const auto& dense) { dense_step(t, i, dense); });
     } else {
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
@@ -237,8 +238,19 @@ class BlockRunner {
   template <class Dense>
   void dense_step(Tile& t, int i, const Dense& dense) {
     Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
-    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sync_at());
+    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sample_at(slot(t, i)),
+                           sync_at());
     t.ad.next_sample[i] = dense_samples_.next(b);
+  }
+  // Trajectory sample k of the lane in `lane_slot` (an adaptive lane's: n = k·every nominal
+  // steps, the time the observables see).
+  auto sample_at(int lane_slot) {
+    return [this, lane_slot](Book& b, std::int64_t k, const LaneState<D>& x, const Params& c) {
+      writer_.record_sample(b, k, x, c);
+      if constexpr (kFormulas)
+        formulas_.record_sample(lane_slot, b.point, k, k * plan_.spec.measures.trajectory->every,
+                                x, c);
+    };
   }
   auto sync_at() {
     return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
@@ -314,7 +326,7 @@ class BlockRunner {
       bool failed = lane_failed(x, status);
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
-        if (!failed && at_end) dense_samples_.at_end(b, x, c, sync_at());
+        if (!failed && at_end) dense_samples_.at_end(b, x, c, sample_at(i), sync_at());
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -509,7 +521,7 @@ class BlockRunner {
   Params uniform_params_{};
   Coef uniform_coef_{};
   LaneClock clock_;
-  DenseSamples<S> dense_samples_{plan_, writer_, clock_};  // an adaptive method's samples
+  DenseSamples<S> dense_samples_{plan_, clock_};  // an adaptive method's samples
   LaneState<D> idle_{};
   std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;

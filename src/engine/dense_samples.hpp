@@ -23,18 +23,18 @@ class DenseSamples {
   using Params = ParamsOf<S, double>;
 
  public:
-  DenseSamples(const RunPlan& plan, LaneWriter<S>& writer, LaneClock clock)
-      : plan_(plan), writer_(writer), clock_(clock) {}
+  explicit DenseSamples(const RunPlan& plan, LaneClock clock) : plan_(plan), clock_(clock) {}
 
   // The time of the lane's next sample of either kind, +∞ when it has them all.
   double next(const Book& b) const { return std::min(next_sample_time(b), next_sync_time(b)); }
 
   // The lane's accepted step ended at t_lane in state `end`: every sample up to t_lane, in time
   // order, from the step's continuous extension (the step's end from the state itself).
-  // sync(b, n, x, c) takes sync's sample at step n of the nominal clock.
-  template <class Dense, class Sync>
+  // traj(b, k, x, c) records trajectory sample k; sync(b, n, x, c) takes sync's sample at step
+  // n of the nominal clock.
+  template <class Dense, class Traj, class Sync>
   void in_step(Book& b, const LaneState<D>& end, double t_lane, const Params& c,
-               const Dense& dense, Sync&& sync) {
+               const Dense& dense, Traj&& traj, Sync&& sync) {
     for (double te = next(b); te <= t_lane; te = next(b)) {
       LaneState<D> x = end;
       if (te != t_lane) {
@@ -43,15 +43,15 @@ class DenseSamples {
         x.z = y.z, x.mu = y.mu;
       }
       x.t = te;
-      sample_at(b, x, c, te, sync);
+      sample_at(b, x, c, te, traj, sync);
     }
   }
 
   // A lane at t_end: the samples whose time rounds a hair beyond it (RunPlan::samples, the
   // sync window's end rounded to a step) take its final state.
-  template <class Sync>
-  void at_end(Book& b, const LaneState<D>& x, const Params& c, Sync&& sync) {
-    for (double te = next(b); te < INFINITY; te = next(b)) sample_at(b, x, c, te, sync);
+  template <class Traj, class Sync>
+  void at_end(Book& b, const LaneState<D>& x, const Params& c, Traj&& traj, Sync&& sync) {
+    for (double te = next(b); te < INFINITY; te = next(b)) sample_at(b, x, c, te, traj, sync);
   }
 
  private:
@@ -71,19 +71,20 @@ class DenseSamples {
   // (beyond the scene's bound, not finite) ends the lane's sampling: its trajectory is NaN from
   // there (a sample not finite: the lane's status says so unless it fails anyway) and its sync
   // has no result, as a fixed-step lane's after it fails.
-  template <class Sync>
-  void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te, Sync& sync) {
+  template <class Traj, class Sync>
+  void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te, Traj& traj,
+                 Sync& sync) {
     if (x.broken > 0.0 || S::diverged(x.q, x.p)) {
       LaneState<D> none = x;
       for (int d = 0; d < D; ++d) none.q[d] = none.p[d] = NAN;
       for (; b.samples_recorded < plan_.samples; ++b.samples_recorded)
-        writer_.record_sample(b, b.samples_recorded, none, c);
+        traj(b, b.samples_recorded, none, c);
       b.sync = SyncTracker{};
       b.sync_n = plan_.sync_last_step + 1;
       return;
     }
     if (next_sample_time(b) == te) {
-      writer_.record_sample(b, b.samples_recorded, x, c);
+      traj(b, b.samples_recorded, x, c);
       ++b.samples_recorded;
     }
     if (next_sync_time(b) == te) {
@@ -93,7 +94,6 @@ class DenseSamples {
   }
 
   const RunPlan& plan_;
-  LaneWriter<S>& writer_;
   LaneClock clock_;
 };
 
