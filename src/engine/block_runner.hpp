@@ -23,6 +23,7 @@
 #include <limits>
 
 #include "engine/dense_samples.hpp"
+#include "engine/lane_health.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
@@ -165,7 +166,7 @@ class BlockRunner {
     b.point = k;
     b.sync_n = sync_n0_;
     if constexpr (kFormulas) formulas_.clear(i);
-    if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
+    if (!defined_at<S>(x, c)) {  // no dynamics to integrate: K or a partial is not finite
       finish(i, b, x, c, LaneStatus::undefined_at_start);
       return false;
     }
@@ -323,7 +324,7 @@ class BlockRunner {
       }
       const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
-      bool failed = lane_failed(x, status);
+      bool failed = lane_failed<S>(x, status);
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
         if (!failed && at_end) dense_samples_.at_end(b, x, c, sample_at(i), sync_at());
@@ -369,33 +370,13 @@ class BlockRunner {
       LaneState<D> x = fin_.lane(j);
       x.t = clock_.at(b.n);
       LaneStatus status = LaneStatus::ok;
-      lane_failed(x, status);
+      lane_failed<S>(x, status);
       const Params c = fin_.params(j);
       if (status == LaneStatus::ok) observe(W + j, b, x, c);
       finish(W + j, b, x, c, status);
       clear(fin_, fin_book_, j);
     }
     fin_count_ = 0;
-  }
-
-  // The initial state and K, K_q, K_p, K_z there are finite (Lane–Emden's (2/t)·z at t = 0,
-  // log(q) at q < 0 are not).
-  static bool defined_at(const LaneState<D>& x, const Params& c) {
-    bool finite = std::isfinite(x.z) && std::isfinite(x.mu) &&
-                  std::isfinite(K<S>(x.q, x.p, x.z, c, x.t)) &&
-                  std::isfinite(K_z<S>(x.q, x.p, x.z, c, x.t));
-    for_each_dof<D>([&](auto i) {
-      finite = finite && std::isfinite(x.q[i]) && std::isfinite(x.p[i]) &&
-               std::isfinite(K_q<S, i>(x.q, x.p, x.z, c, x.t)) &&
-               std::isfinite(K_p<S, i>(x.q, x.p, x.z, c, x.t));
-    });
-    return finite;
-  }
-
-  static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
-    if (x.broken > 0.0) status = LaneStatus::breakdown;
-    else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
-    return status != LaneStatus::ok;
   }
 
   // ---- measures ------------------------------------------------------------------------------
@@ -487,7 +468,7 @@ class BlockRunner {
     }
     x.t = clock_.at(b.n);
     LaneStatus status = LaneStatus::ok;
-    if (lane_failed(x, status)) return finish(lane_slot, b, x, c, status);
+    if (lane_failed<S>(x, status)) return finish(lane_slot, b, x, c, status);
     finish_stopped(lane_slot, b, x, c);
   }
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "engine/lane_health.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/run_plan.hpp"
@@ -74,7 +75,7 @@ class DenseSamples {
   template <class Traj, class Sync>
   void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te, Traj& traj,
                  Sync& sync) {
-    if (x.broken > 0.0 || S::diverged(x.q, x.p)) {
+    if (LaneStatus status = LaneStatus::ok; lane_failed<S>(x, status)) {
       LaneState<D> none = x;
       for (int d = 0; d < D; ++d) none.q[d] = none.p[d] = NAN;
       for (; b.samples_recorded < plan_.samples; ++b.samples_recorded)
