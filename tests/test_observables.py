@@ -6,6 +6,7 @@
   * an observable of built-in quantities, written as the same operations, equals numpy on the
     written final and trajectory values bit for bit (built-in scene and K alike); lambda is
     exp(final_log_lambda);
+  * the same with dop853, whose samples come from its steps' dense output;
   * mean_, min_, max_ over observe_window equal numpy on the trajectory samples in the window
     (the mean as a sequential sum: np.cumsum), and without a trajectory equal those of a run
     sampling every step;
@@ -72,36 +73,50 @@ observe_window = {{ from = 5.0, to = 15.0 }}
 BUILTIN = 'name = "damped_oscillator"\nomega = 1.3\ngamma = 0.2'
 AS_K = 'K = "p^2/2 + omega^2*(q^2/2) - gamma*z"\nomega = 1.3\ngamma = 0.2'
 
+
+def check_osc(f, tag):
+    """The observables against numpy on the written final and trajectory values."""
+    omega, gamma = 1.3, 0.2
+    q, p, z = f["final_q"][...], f["final_p"][...], f["final_z"][...]
+    check(f"final_E = p^2/2 + omega^2*(q^2/2) bit for bit {tag}",
+          same(f["final_E"][...], p**2 / 2 + omega**2 * (q**2 / 2)))
+    check(f"final_L = q*p - gamma*z bit for bit {tag}",
+          same(f["final_L"][...], q * p - gamma * z))
+    lam = np.exp(f["final_log_lambda"][...])
+    check(f"final_lam = exp(final_log_lambda) within one ulp {tag}",
+          np.all(np.abs(f["final_lam"][...] - lam) <= np.spacing(lam)))
+    check(f"final_T = t_end*q {tag}", same(f["final_T"][...], 20.0 * q))
+    tq, tp, tz = f["traj_q"][...], f["traj_p"][...], f["traj_z"][...]
+    t = f["t"][...]
+    check(f"traj_E bit for bit {tag}", same(f["traj_E"][...], tp**2 / 2 + omega**2 * (tq**2 / 2)))
+    check(f"traj_L bit for bit {tag}", same(f["traj_L"][...], tq * tp - gamma * tz))
+    check(f"traj_T = t*q bit for bit {tag}", same(f["traj_T"][...], t * tq))
+    inside = (t >= 5.0) & (t <= 15.0)
+    E = f["traj_E"][...][..., inside]
+    check(f"min_E, max_E over the window = numpy on the samples {tag}",
+          same(f["min_E"][...], E.min(axis=-1)) and same(f["max_E"][...], E.max(axis=-1)))
+    mean = np.cumsum(E, axis=-1)[..., -1] / E.shape[-1]
+    check(f"mean_E = sequential sum / count, bit for bit {tag}", same(f["mean_E"][...], mean),
+          f"{np.max(np.abs(f['mean_E'][...] - mean))}")
+    check(f"mean_E ~ numpy's mean {tag}",
+          np.allclose(f["mean_E"][...], E.mean(axis=-1), rtol=1e-13, atol=0))
+
+
 for scene_name, scene in (("builtin", BUILTIN), ("K", AS_K)):
     for method in ("hybrid_leapfrog", "rk4"):
         f, _ = run(OSC.format(scene=scene, method=method, every=10), f"osc_{scene_name}_{method}")
         if f is None:
             continue
         tag = f"({scene_name}, {method})"
-        omega, gamma = 1.3, 0.2
-        q, p, z = f["final_q"][...], f["final_p"][...], f["final_z"][...]
-        check(f"final_E = p^2/2 + omega^2*(q^2/2) bit for bit {tag}",
-              same(f["final_E"][...], p**2 / 2 + omega**2 * (q**2 / 2)))
-        check(f"final_L = q*p - gamma*z bit for bit {tag}",
-              same(f["final_L"][...], q * p - gamma * z))
-        lam = np.exp(f["final_log_lambda"][...])
-        check(f"final_lam = exp(final_log_lambda) within one ulp {tag}",
-              np.all(np.abs(f["final_lam"][...] - lam) <= np.spacing(lam)))
-        check(f"final_T = t_end*q {tag}", same(f["final_T"][...], 20.0 * q))
-        tq, tp, tz = f["traj_q"][...], f["traj_p"][...], f["traj_z"][...]
-        t = f["t"][...]
-        check(f"traj_E bit for bit {tag}", same(f["traj_E"][...], tp**2 / 2 + omega**2 * (tq**2 / 2)))
-        check(f"traj_L bit for bit {tag}", same(f["traj_L"][...], tq * tp - gamma * tz))
-        check(f"traj_T = t*q bit for bit {tag}", same(f["traj_T"][...], t * tq))
-        inside = (t >= 5.0) & (t <= 15.0)
-        E = f["traj_E"][...][..., inside]
-        check(f"min_E, max_E over the window = numpy on the samples {tag}",
-              same(f["min_E"][...], E.min(axis=-1)) and same(f["max_E"][...], E.max(axis=-1)))
-        mean = np.cumsum(E, axis=-1)[..., -1] / E.shape[-1]
-        check(f"mean_E = sequential sum / count, bit for bit {tag}", same(f["mean_E"][...], mean),
-              f"{np.max(np.abs(f['mean_E'][...] - mean))}")
-        check(f"mean_E ~ numpy's mean {tag}",
-              np.allclose(f["mean_E"][...], E.mean(axis=-1), rtol=1e-13, atol=0))
+        check_osc(f, tag)
+
+# dop853: its samples, interpolated inside each lane's steps (dense output), are what the
+# observables read: the same checks.
+dop853_spec = OSC.format(scene=BUILTIN, method="dop853", every=10).replace(
+    "h = 0.01\n", "h = 0.01\nrtol = 1e-9\n")
+f, _ = run(dop853_spec, "osc_builtin_dop853")
+if f is not None:
+    check_osc(f, "(builtin, dop853)")
 
 # Without a trajectory every step is a sample: the statistics of a run sampling every step.
 every1, _ = run(OSC.format(scene=BUILTIN, method="hybrid_leapfrog", every=1), "osc_every1")

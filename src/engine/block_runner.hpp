@@ -14,13 +14,16 @@
 //
 // An adaptive method (dop853): a chunk is `chunk` attempts of every lane, each lane at its own
 // time (LaneTile::ad); a lane is looked at when it reaches t_end, and b.n counts its attempts
-// (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax).
+// (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax);
+// its trajectory and sync samples come from its steps' dense output (dense_samples.hpp).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
+#include "engine/dense_samples.hpp"
+#include "engine/lane_health.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
@@ -66,6 +69,7 @@ class BlockRunner {
       const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
+      main_.ad.sampling = fin_.ad.sampling = plan.samples > 0 || plan.map.sync_r >= 0;
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -160,8 +164,9 @@ class BlockRunner {
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
     b.point = k;
+    b.sync_n = sync_n0_;
     if constexpr (kFormulas) formulas_.clear(i);
-    if (!defined_at(x, c)) {  // no dynamics to integrate: K or a partial is not finite
+    if (!defined_at<S>(x, c)) {  // no dynamics to integrate: K or a partial is not finite
       finish(i, b, x, c, LaneStatus::undefined_at_start);
       return false;
     }
@@ -183,7 +188,10 @@ class BlockRunner {
     }
     main_.set_lane(i, x);
     main_.set_parameters(i, c, coef);
-    if constexpr (kAdaptive) main_.ad.clear(i, clock_.t_start, plan_.spec.h);
+    if constexpr (kAdaptive) {
+      main_.ad.clear(i, clock_.t_start, plan_.spec.h);
+      main_.ad.next_sample[i] = dense_samples_.next(b);
+    }
     lyapunov_.seed(i, x, c);
     main_book_[i] = b;
     countdown_[i] = chunks_until_due(0);
@@ -208,6 +216,11 @@ class BlockRunner {
                                             if constexpr (kFormulas)
                                               if (hooks) formulas_.after_step(t, which, s);
                                           });
+    } else if constexpr (kAdaptive) {  // its formulas read samples only (no stop, no
+                                        // every-step window: spec_integrator.cpp)
+      advance_adaptive<S, Method, carry, Uniform>(
+          t, steps, uniform_params_, [](int) {},
+          [&](int i, const auto& dense) { dense_step(t, i, dense); });
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
         advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
@@ -220,6 +233,30 @@ class BlockRunner {
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
                                          clock_.h, [](int) {});
     }
+  }
+
+  // Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
+  template <class Dense>
+  void dense_step(Tile& t, int i, const Dense& dense) {
+    Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
+    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sample_at(slot(t, i)),
+                           sync_at());
+    t.ad.next_sample[i] = dense_samples_.next(b);
+  }
+  // Trajectory sample k of the lane in `lane_slot` (an adaptive lane's: n = k·every nominal
+  // steps, the time the observables see).
+  auto sample_at(int lane_slot) {
+    return [this, lane_slot](Book& b, std::int64_t k, const LaneState<D>& x, const Params& c) {
+      writer_.record_sample(b, k, x, c);
+      if constexpr (kFormulas)
+        formulas_.record_sample(lane_slot, b.point, k, k * plan_.spec.measures.trajectory->every,
+                                x, c);
+    };
+  }
+  auto sync_at() {
+    return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
+      sample_sync(b, n, x.q, x.p, c);
+    };
   }
 
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
@@ -248,7 +285,7 @@ class BlockRunner {
   // the next countdown.
   LookInt chunks_until_due(std::int64_t n) const {
     std::int64_t due = (steps_ / plan_.chunk) * plan_.chunk;
-    if (plan_.samples > 0) {
+    if (plan_.samples > 0 && !kAdaptive) {  // an adaptive lane samples as it steps
       auto every = plan_.spec.measures.trajectory->every;
       due = std::min(due, (n / every + 1) * every);
     }
@@ -287,8 +324,10 @@ class BlockRunner {
       }
       const Params c = main_.params(i);
       LaneStatus status = LaneStatus::ok;
-      bool failed = lane_failed(x, status);
+      bool failed = lane_failed<S>(x, status);
       if (!failed) observe(i, b, x, c);
+      if constexpr (kAdaptive)
+        if (!failed && at_end) dense_samples_.at_end(b, x, c, sample_at(i), sync_at());
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -331,7 +370,7 @@ class BlockRunner {
       LaneState<D> x = fin_.lane(j);
       x.t = clock_.at(b.n);
       LaneStatus status = LaneStatus::ok;
-      lane_failed(x, status);
+      lane_failed<S>(x, status);
       const Params c = fin_.params(j);
       if (status == LaneStatus::ok) observe(W + j, b, x, c);
       finish(W + j, b, x, c, status);
@@ -340,32 +379,13 @@ class BlockRunner {
     fin_count_ = 0;
   }
 
-  // The initial state and K, K_q, K_p, K_z there are finite (Lane–Emden's (2/t)·z at t = 0,
-  // log(q) at q < 0 are not).
-  static bool defined_at(const LaneState<D>& x, const Params& c) {
-    bool finite = std::isfinite(x.z) && std::isfinite(x.mu) &&
-                  std::isfinite(K<S>(x.q, x.p, x.z, c, x.t)) &&
-                  std::isfinite(K_z<S>(x.q, x.p, x.z, c, x.t));
-    for_each_dof<D>([&](auto i) {
-      finite = finite && std::isfinite(x.q[i]) && std::isfinite(x.p[i]) &&
-               std::isfinite(K_q<S, i>(x.q, x.p, x.z, c, x.t)) &&
-               std::isfinite(K_p<S, i>(x.q, x.p, x.z, c, x.t));
-    });
-    return finite;
-  }
-
-  static bool lane_failed(const LaneState<D>& x, LaneStatus& status) {
-    if (x.broken > 0.0) status = LaneStatus::breakdown;
-    else if (S::diverged(x.q, x.p)) status = LaneStatus::diverged;
-    return status != LaneStatus::ok;
-  }
-
   // ---- measures ------------------------------------------------------------------------------
 
   // Looks at the healthy lane in `lane_slot` at step b.n (a multiple of the chunk, or t_end).
   void observe(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
     if (plan_.map.basin >= 0 && !b.basin.settled) mappers_.look(lane_slot, b.n, x, c, b.basin);
-    if (plan_.samples > 0) {
+    // An adaptive lane's samples after the first come from its steps' dense output.
+    if (plan_.samples > 0 && (!kAdaptive || b.n == 0)) {
       auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0) {
         writer_.record_sample(b, b.n / every, x, c);
@@ -373,8 +393,12 @@ class BlockRunner {
         b.samples_recorded = b.n / every + 1;
       }
     }
-    if (plan_.map.sync_r >= 0 && b.n >= sync_n0_ && b.n <= sync_n1_ && b.n % plan_.chunk == 0)
+    // An adaptive lane's sync samples after the first come from its steps' dense output.
+    if (plan_.map.sync_r >= 0 && (!kAdaptive || b.n == 0) && b.n >= sync_n0_ &&
+        b.n <= sync_n1_ && b.n % plan_.chunk == 0) {
       sample_sync(b, b.n, x.q, x.p, c);
+      if constexpr (kAdaptive) b.sync_n = b.n + plan_.chunk;
+    }
   }
 
   // The phases' ω: the spec's, else the scene's own (natural_frequencies, scene_concept.hpp).
@@ -444,7 +468,7 @@ class BlockRunner {
     }
     x.t = clock_.at(b.n);
     LaneStatus status = LaneStatus::ok;
-    if (lane_failed(x, status)) return finish(lane_slot, b, x, c, status);
+    if (lane_failed<S>(x, status)) return finish(lane_slot, b, x, c, status);
     finish_stopped(lane_slot, b, x, c);
   }
 
@@ -478,6 +502,7 @@ class BlockRunner {
   Params uniform_params_{};
   Coef uniform_coef_{};
   LaneClock clock_;
+  DenseSamples<S> dense_samples_{plan_, clock_};  // an adaptive method's samples
   LaneState<D> idle_{};
   std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;

@@ -9,12 +9,15 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 #include <algorithm>
 
 #include "numerics/contact_field.hpp"
+#include "numerics/dop853_dense.hpp"
 #include "numerics/lane_state.hpp"
 #include "numerics/method_description.hpp"
 #include "physics/scene_concept.hpp"
@@ -23,7 +26,10 @@ namespace cs {
 
 // An adaptive method's lanes (numerics/methods/dop853.hpp): each its own time, the step it
 // tries next, whether its last attempt was rejected, and its counts of accepted and rejected
-// attempts; the controller's settings, one for the run.
+// attempts; the controller's settings, one for the run. next_sample: the time of the lane's next
+// sample (+∞ when none is due), which an accepted step reaching it interpolates (dense output,
+// numerics/dop853_dense.hpp); `sampling` is false for a run with no samples, which then never
+// looks.
 template <class Method, int W, bool = adaptive_method<Method>()>
 struct AdaptiveLanes {};
 template <class Method, int W>
@@ -33,15 +39,19 @@ struct AdaptiveLanes<Method, W, true> {
   alignas(64) double last_rejected[W];
   alignas(64) double accepted[W];
   alignas(64) double rejected[W];
+  alignas(64) double next_sample[W];
   typename Method::Control control{};
+  bool sampling = false;
   void clear(int i, double t_start, double h_first) {
     t[i] = t_start;
     h[i] = std::min(h_first, control.h_max);
     last_rejected[i] = accepted[i] = rejected[i] = 0.0;
+    next_sample[i] = INFINITY;
   }
   void copy(int to, const AdaptiveLanes& from, int i) {
     t[to] = from.t[i], h[to] = from.h[i], last_rejected[to] = from.last_rejected[i];
     accepted[to] = from.accepted[i], rejected[to] = from.rejected[i];
+    next_sample[to] = from.next_sample[i];
   }
 };
 
@@ -146,10 +156,17 @@ template <Scene S, Carry carry, class Method, int W>
 // are one dependency chain of ~400 instructions per vector, longer than the core's window. The
 // same operations in the same order: the same bits as Method::attempt, lane by lane (checked on
 // the double well's 512² map). The kernel's share of that map: 11 ns per lane-attempt, 1 core.
-template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
+//
+// Dense output (t.ad.sampling): a lane whose step may reach its next sample time keeps its state
+// before the step; when the step is accepted and does reach it, on_dense(i, d) gets the step's
+// continuous extension d (numerics/dop853_dense.hpp), built from that lane's stages alone, and
+// sets the lane's next sample time. The steps themselves are those of a run without samples.
+template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep,
+          class OnDense = std::nullptr_t>
 [[gnu::flatten]] inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
                                               const ParamsOf<S, double>& uniform,
-                                              AfterStep&& after_step) {
+                                              AfterStep&& after_step,
+                                              OnDense&& on_dense = nullptr) {
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr bool with_mu = carry.mu && !S::kz_constant;
@@ -194,6 +211,22 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
         if constexpr (carry.mu) rates[k][2 * D + 1][i] = rk.mu;
       }
     });
+    // Lanes whose step, if accepted, reaches their next sample: their state before it.
+    bool dense_due = false;
+    alignas(64) double t_before[W];
+    alignas(64) double h_before[W];  // the step each lane attempts
+    bool may_reach[W];
+    P y_before[W];
+    if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<OnDense>>) {
+      if (t.ad.sampling) {
+        for (int i = 0; i < W; ++i) {
+          h_before[i] = Method::step_to_try(t.ad.t[i], t.ad.h[i], control);
+          t_before[i] = t.ad.t[i];
+          may_reach[i] = t.ad.t[i] + h_before[i] >= t.ad.next_sample[i];
+          if (may_reach[i]) dense_due = true, y_before[i] = state(i);
+        }
+      }
+    }
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
       LaneState<D> x;
@@ -214,6 +247,22 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
       t.broken[i] = x.broken;
       t.ad.t[i] = lane_t, t.ad.h[i] = lane_h, t.ad.last_rejected[i] = last_rejected;
       t.ad.accepted[i] = accepted, t.ad.rejected[i] = rejected;
+    }
+    if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<OnDense>>) {
+      if (dense_due) {
+        for (int i = 0; i < W; ++i) {
+          // Accepted (its time moved) and at its sample: the last step lands on t_end, which
+          // may round below t_before + h; the runner takes a sample at t_end from the state.
+          if (!(may_reach[i] && t.ad.t[i] > t_before[i] && t.ad.t[i] >= t.ad.next_sample[i]))
+            continue;
+          P r[kStages];
+          load_rates(r, std::integral_constant<int, kStages>{}, i);
+          const ParamsOf<S, double> c = Uniform ? c0 : t.params(i);
+          const auto dense = Dop853Dense<S, with_z, with_mu>::build(
+              y_before[i], state(i), r, c, t_before[i], h_before[i]);
+          on_dense(i, dense);
+        }
+      }
     }
     after_step(s);
   }

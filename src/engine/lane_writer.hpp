@@ -25,6 +25,7 @@ struct LaneBook {
   Settlement<2 * D> basin;  // where a basin mapper settled it
   std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
   SyncTracker sync;
+  std::int64_t sync_n = 0;  // an adaptive lane's next sync sample, a step of the nominal clock
 };
 
 template <Scene S>
@@ -144,7 +145,8 @@ class LaneWriter {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const std::int64_t n0 = plan_.sync_first_step, n1 = plan_.sync_last_step;
     SyncResult r{nan, nan, nan, nan};
-    if (status == LaneStatus::ok && b.n >= n1)
+    // An adaptive lane's b.n counts attempts: its window is complete when sync_n is past n1.
+    if (status == LaneStatus::ok && (b.n >= n1 || b.sync_n > n1))
       r = b.sync.result(static_cast<double>(n1 - n0) * plan_.spec.h);
     column(map.sync_r, b.point)[0] = r.r;
     column(map.sync_phase_drift, b.point)[0] = r.phase_drift;

@@ -36,7 +36,10 @@ int choose_chunk(const RunSpec& spec) {
   if (spec.measures.sync)
     cap = std::clamp<std::int64_t>(static_cast<std::int64_t>(0.2 / spec.h), 1, 32);
   std::int64_t multiple_of = 0;  // every interval the chunk must divide: their gcd
-  if (spec.measures.trajectory) multiple_of = spec.measures.trajectory->every;
+  // An adaptive method's samples are interpolated where they fall, not taken at looks.
+  const MethodInfo* method = find_method(spec.method);
+  const bool adaptive = method != nullptr && method->adaptive;
+  if (spec.measures.trajectory && !adaptive) multiple_of = spec.measures.trajectory->every;
   if (spec.measures.basin && spec.measures.basin->period)
     multiple_of = std::gcd(multiple_of, std::llround(*spec.measures.basin->period / spec.h));
   if (multiple_of == 0) return static_cast<int>(cap);
@@ -85,6 +88,14 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
   if (measures.trajectory) {
     auto every = measures.trajectory->every;
     samples = spec.steps / every + 1;
+    // An adaptive method's steps are nominal (t_end / h rounded): its samples are the times
+    // t_start + k·every·h up to t_end (a hair's rounding beyond it taking the state at t_end).
+    if (const MethodInfo* m = find_method(spec.method); m != nullptr && m->adaptive) {
+      const double slack = 1e-12 * (spec.t_end - spec.t_start);
+      while (samples > 1 && spec.t_start + static_cast<double>((samples - 1) * every) * spec.h >
+                                spec.t_end + slack)
+        --samples;
+    }
     for (std::int64_t k = 0; k < samples; ++k)
       sample_times.push_back(spec.t_start + static_cast<double>(k * every) * spec.h);
     for (std::size_t i = 0; i < nvars; ++i) {

@@ -72,8 +72,10 @@ void SpecReader::read_tolerances(const toml::table& t) {
     fail_value(*t.get("atol"), "integrator.atol", "a finite number > 0");
 }
 
-// What an adaptive method does not do yet, refused by name (its lanes step to their own times:
-// nothing is sampled between steps yet, dense output being still to come).
+// What an adaptive method does not do yet, refused by name. Its lanes step to times of their
+// own; the samples of a trajectory, its observables and sync between two steps come from the
+// step's dense output (numerics/dop853_dense.hpp), which stop, an observe_window sampled every
+// step and the stroboscopic map do not read yet.
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
   const Measures& m = spec_.measures;
@@ -82,11 +84,13 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  const char* between = "its lanes step to times of their own, and values between two steps "
-                        "need dense output, not yet written; use a fixed-step method";
-  if (m.trajectory) refuse("measures.trajectory", between);
-  if (m.sync) refuse("measures.sync", between);
-  if (m.observe) refuse("measures.observe", between);
+  const char* between = "its lanes step to times of their own, and this measure does not read "
+                        "the steps' dense output yet (trajectory, observe and sync do); use a "
+                        "fixed-step method";
+  if (m.observe && m.observe->window && !m.trajectory)
+    refuse("measures.observe_window without measures.trajectory",
+           "the window's samples are every step, and its lanes have steps of their own; add a "
+           "trajectory, whose samples the window then reads");
   if (m.stop) refuse("measures.stop", between);
   if (m.lyapunov)
     refuse("measures.lyapunov", "the tangent of an adaptive step is not written");

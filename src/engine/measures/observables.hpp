@@ -275,7 +275,9 @@ class FormulaTracker {
     const bool failed = status == LaneStatus::breakdown || status == LaneStatus::undefined_at_start;
     if constexpr (M::observables > 0) {
       double v[K];
-      M::observe(view(x, clock_.at(b.n)), c, v);
+      // An adaptive lane's b.n counts its attempts; its own time is x.t.
+      const double time = adaptive_method<Method>() ? x.t : clock_.at(b.n);
+      M::observe(view(x, time), c, v);
       for (int k = 0; k < K; ++k) {
         column(o_.final_value[k], b.point)[0] = failed ? nan : v[k];
         if (!o_.window) continue;

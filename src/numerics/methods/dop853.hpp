@@ -18,6 +18,10 @@
 // A lane's sequence of steps depends on its own state alone: the same bits on any rank, thread
 // or slot. The coefficients are those of dop853.f (as scipy's dop853_coefficients lists them).
 //
+// Samples between a lane's steps (trajectory, sync) come from the continuous extension of
+// order 7 of its accepted step (numerics/dop853_dense.hpp, built from the 12 stage rates and
+// four more evaluations, only for a step that holds a sample).
+//
 // `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits
 // and the tangent kernels, which step at the spec's h, use.
 #pragma once
