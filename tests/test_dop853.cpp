@@ -67,10 +67,12 @@ struct AdaptiveRun {
   double t, accepted, rejected;
 };
 
-// One lane stepped adaptively to t_end, as the tile steps it.
-template <Carry carry = Carry{false, false}>
-AdaptiveRun adaptive_run(double rtol, double atol, double t_end, double h0 = 0.01) {
-  AdaptiveRun r{start_state(), 0.0, 0.0, 0.0};
+// One lane stepped adaptively to t_end, as the tile steps it (carrying z and ln λ, as a run of
+// an adaptive method always does: RunPlan).
+template <Carry carry = Carry{true, true}>
+AdaptiveRun adaptive_run(double rtol, double atol, double t_end, double h0 = 0.01,
+                         LaneState<1> start = start_state()) {
+  AdaptiveRun r{start, 0.0, 0.0, 0.0};
   double h = h0, last_rejected = 0.0;
   const Dop853::Control control{rtol, atol, t_end, t_end};
   for (int i = 0; i < 100000 && r.t < t_end; ++i) {
@@ -128,6 +130,22 @@ TEST(Dop853, ConservesHOnSceneAToTheTolerance) {
   EXPECT_GT(r.accepted, 0.0);
 }
 
+// z is in the error norm though it does not feed back on scene A: the lane at rest (q = p = 0)
+// has z' = −γz alone, z = e^(−γt), and without z in the norm it had no error to control (it
+// stepped to h_max = t_end at once, z off by 10⁻⁷ … 5·10⁻⁶ at rtol 10⁻¹⁰). With it, z ends
+// within a few tolerances relative to its size, as q and p do.
+TEST(Dop853, ZIsErrorControlledWhereItDoesNotFeedBack) {
+  LaneState<1> rest = start_state();
+  rest.q[0] = 0.0;
+  for (double tol : {1e-7, 1e-10}) {
+    const AdaptiveRun r = adaptive_run(tol, tol, 20.0, 0.01, rest);
+    ASSERT_EQ(r.t, 20.0);
+    const double z = std::exp(-0.1 * 20.0);
+    EXPECT_LT(std::fabs(r.x.z - z), 20 * tol * z) << "tol " << tol << " z " << r.x.z;
+    EXPECT_GT(r.accepted, 1.0) << "tol " << tol;  // not one step over the whole interval
+  }
+}
+
 // A step the controller cannot shrink enough (a NaN force: err is not finite) is rejected over
 // and over until h falls below t's rounding, and the lane breaks down instead of hanging.
 TEST(Dop853, AnAttemptThatNeverPassesBreaksTheLaneDown) {
@@ -137,8 +155,8 @@ TEST(Dop853, AnAttemptThatNeverPassesBreaksTheLaneDown) {
   const Dop853::Control control{1e-8, 1e-8, 10.0, 10.0};
   int attempts = 0;
   for (; attempts < 1000 && !(x.broken > 0.0); ++attempts)
-    Dop853::attempt<S, Carry{false, false}>(x, kSceneA, t, h, last_rejected, accepted, rejected,
-                                            control);
+    Dop853::attempt<S, Carry{true, true}>(x, kSceneA, t, h, last_rejected, accepted, rejected,
+                                          control);
   EXPECT_GT(x.broken, 0.0);
   EXPECT_EQ(accepted, 0.0);
   EXPECT_EQ(t, 1.0);

@@ -21,9 +21,17 @@ void run_with(const RunPlan& plan, BlockResults& results) {
     else
       std::make_unique<BlockRunner<S, Method, carry, false>>(plan, results)->run();
   };
-  if (plan.carry.mu) go.template operator()<Carry{true, true}>();
-  else if (plan.carry.z) go.template operator()<Carry{true, false}>();
-  else go.template operator()<Carry{false, false}>();
+  // An adaptive method always carries z and ln λ (RunPlan): one carried state to build.
+  if constexpr (adaptive_method<Method>()) {
+    if (!(plan.carry.z && plan.carry.mu)) throw std::logic_error("an adaptive run carries z and ln lambda");
+    go.template operator()<Carry{true, true}>();
+  } else if (plan.carry.mu) {
+    go.template operator()<Carry{true, true}>();
+  } else if (plan.carry.z) {
+    go.template operator()<Carry{true, false}>();
+  } else {
+    go.template operator()<Carry{false, false}>();
+  }
 }
 
 // The built-in scene of that name (BuiltinScenes: the catalog's list), run with Method.

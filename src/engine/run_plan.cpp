@@ -162,6 +162,10 @@ RunPlan::RunPlan(const RunSpec& s, const SceneInfo& sc, const MethodInfo& m)
                               std::nullopt});
   }
   plan_observables(*this);
+  // An adaptive method steers its steps by the error of everything it integrates: z and ln λ
+  // are in its error norm whatever the run writes, so that they are as accurate as q and p and
+  // a lane's steps (its q and p bits) do not depend on which outputs were asked for.
+  if (method.adaptive) carry.z = carry.mu = true;
 }
 
 int RunPlan::add_column(DatasetSpec dataset, std::int64_t width, bool internal) {

@@ -9,8 +9,9 @@
 // One attempt per lane per pass of the tile: the lane's error norm
 //   err = |h|·e5 / sqrt(n·(e5 + 0.01·e3)),  e_k = Σ_i (E_k·K)_i² / sk_i²,
 //   sk_i = atol + rtol·max(|y_i|, |y_new,i|)
-// over the n components that carry the dynamics (q, p; z where it feeds back: the passengers z
-// and ln λ never steer the steps, so carrying them does not change q and p); the attempt is
+// over the n components it integrates (q, p, z, and ln λ where K_z is not constant: the run
+// plan carries z and ln λ for an adaptive method whatever it writes, so that rtol bounds them
+// too and a lane's steps do not depend on the outputs asked for); the attempt is
 // accepted when err ≤ 1 and the next h follows dop853.f's controller (safe = 0.9, fac1 = 0.333,
 // fac2 = 6, beta = 0: h_new = h / max(1/6, min(1/0.333, err^(1/8)/0.9)), no larger than h after
 // a rejection; h / min(1/0.333, err^(1/8)/0.9) after one), the last step cut to land on t_end
@@ -147,9 +148,9 @@ struct Dop853 {
     const P y0{x};
     P y1 = y0;
     combine<kRowB, 12, D, with_z, with_mu>(y1, y0, hs, r);
-    // The error norm over the components that carry the dynamics.
-    constexpr bool z_counts = S::z_feeds_back;
-    constexpr int n = 2 * D + (z_counts ? 1 : 0);
+    // The error norm over the components it integrates (RunPlan carries z and ln λ).
+    static_assert(carry.z && carry.mu, "an adaptive method's run carries z and ln lambda (RunPlan)");
+    constexpr int n = 2 * D + 1 + (with_mu ? 1 : 0);
     double e5 = 0.0, e3 = 0.0;
     auto add = [&](double a, double b, auto m) __attribute__((always_inline)) {
       const double sk = lane_math::mul_add(k.rtol, max(std::fabs(a), std::fabs(b)), k.atol);
@@ -161,7 +162,8 @@ struct Dop853 {
       add(y0.q[i], y1.q[i], std::integral_constant<int, i>{});
       add(y0.p[i], y1.p[i], std::integral_constant<int, D + i>{});
     });
-    if constexpr (z_counts) add(y0.z, y1.z, std::integral_constant<int, 2 * D>{});
+    add(y0.z, y1.z, std::integral_constant<int, 2 * D>{});
+    if constexpr (with_mu) add(y0.mu, y1.mu, std::integral_constant<int, 2 * D + 1>{});
     double deno = lane_math::mul_add(0.01, e3, e5);
     deno = select(deno > 0.0, deno, 1.0);
     double err = hs * e5 / std::sqrt(deno * n);
