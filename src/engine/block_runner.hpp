@@ -138,7 +138,7 @@ class BlockRunner {
     mappers_.clear(slot(t, i));
     if constexpr (kFormulas) formulas_.clear(slot(t, i));
     if (&t == &main_) {
-      steps_done_[i] = 0;
+      first_chunk_[i] = chunks_;
       countdown_[i] = std::numeric_limits<LookInt>::max();
     }
   }
@@ -194,6 +194,7 @@ class BlockRunner {
     }
     lyapunov_.seed(i, x, c);
     main_book_[i] = b;
+    first_chunk_[i] = chunks_;
     countdown_[i] = chunks_until_due(0);
     mappers_.arm(i, x, c, b.basin);
     ++active_;
@@ -207,7 +208,7 @@ class BlockRunner {
     const int which = &t == &main_ ? 0 : 1;
     std::int64_t base[W];  // the lanes' step counts
     if constexpr (kFormulas || carry.tangent)
-      for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done_[i] : fin_book_[i].n;
+      for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done(i) : fin_book_[i].n;
     if constexpr (carry.tangent) {
       bool hooks = false;
       if constexpr (kFormulas) hooks = formulas_.before_advance(t, which, base, steps);
@@ -259,9 +260,23 @@ class BlockRunner {
     };
   }
 
+  // The main tile's lane i: its steps since it was loaded, all whole chunks.
+  std::int64_t steps_done(int i) const { return (chunks_ - first_chunk_[i]) * plan_.chunk; }
+
   // Which lanes need a closer look after a chunk: failed, or due for a sample or the end; then
   // the mappers' own screens. Branch-free over the tile so that it vectorises like the step.
+  // The mappers' lane flags (the energy trap's E) are computed only while a lane can raise one:
+  // once every lane of a run to t_end has settled, the pass is the bookkeeping alone.
   void screen() {
+    ++chunks_;
+    if (mappers_.flagging()) screen_pass<true>();
+    else screen_pass<false>();
+    mappers_.screen(main_, attention_);
+    if constexpr (kFormulas) formulas_.screen(attention_);
+  }
+
+  template <bool kFlags>
+  void screen_pass() {
     Tile& t = main_;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
@@ -270,14 +285,13 @@ class BlockRunner {
       for (int d = 0; d < D; ++d)
         healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       countdown_[i] -= 1;
-      steps_done_[i] += plan_.chunk;
       if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
       LookInt due = countdown_[i] <= 0;
       if constexpr (kAdaptive) due |= t.ad.t[i] >= plan_.spec.t_end;
-      attention_[i] = (!healthy) | due | mappers_.flag(t, i);
+      LookInt a = (!healthy) | due;
+      if constexpr (kFlags) a |= mappers_.flag(t, i);
+      attention_[i] = a;
     }
-    mappers_.screen(t, attention_);
-    if constexpr (kFormulas) formulas_.screen(attention_);
   }
 
   // Chunks until a lane at step n is due for a sample, a mapper's look or the end of its run.
@@ -304,7 +318,7 @@ class BlockRunner {
     for (int i = 0; i < W; ++i) {
       Book& b = main_book_[i];
       if (!attention_[i] || b.point < 0) continue;
-      b.n = steps_done_[i];
+      b.n = steps_done(i);
       if constexpr (kFormulas) {
         if (formulas_.hit(i)) {  // the stop's condition held after a step of this chunk
           stop_lane(i, main_, i, b, plan_.chunk);
@@ -513,8 +527,10 @@ class BlockRunner {
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
   // Screening state of the main tile, structure of arrays.
-  alignas(64) std::int64_t steps_done_[W];  // the main tile's step counts (Book::n is set
-                                            // from it when a lane is looked at)
+  // The main tile's step counts (Book::n is set from them when a lane is looked at): the chunks
+  // advanced, and per lane the count when it was loaded; one add per chunk, not one per lane.
+  std::int64_t chunks_ = 0;
+  alignas(64) std::int64_t first_chunk_[W];
   alignas(64) LookInt countdown_[W];
   alignas(64) LookInt attention_[W];
 };

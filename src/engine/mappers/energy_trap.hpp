@@ -35,6 +35,7 @@ class EnergyTrap {
         clock_(clock),
         tolerance_(plan.attractors.tolerance),
         uniform_params_(uniform) {
+    std::fill(well_energy_, well_energy_ + W, -std::numeric_limits<double>::infinity());
     if (!active_) return;
     for (int d = 0; d < D; ++d) angle_period_[d] = plan.attractors.angle_period[static_cast<std::size_t>(d)];
     for (int d = 0; d < D; ++d) {
@@ -56,7 +57,7 @@ class EnergyTrap {
 
   void clear(int slot) {
     if (slot >= W) return;
-    well_energy_[slot] = -std::numeric_limits<double>::infinity();
+    set_level(slot, -std::numeric_limits<double>::infinity());
     if constexpr (!Uniform)
       for (int d = 0; d < D; ++d) box_lo_[d][slot] = box_hi_[d][slot] = 0.0;
   }
@@ -102,14 +103,17 @@ class EnergyTrap {
   template <class Lane>
   void arm(int slot, const Lane&, const Params& c, const Settlement<N>&) {
     const Wells<D>& wells = wells_of(c);
-    well_energy_[slot] = wells.trap_energy;
+    set_level(slot, wells.trap_energy);
     if constexpr (!Uniform)
       for (int d = 0; d < D; ++d) box_lo_[d][slot] = wells.box.lo[d], box_hi_[d][slot] = wells.box.hi[d];
   }
 
   void disarm(int slot) {
-    if (slot < W) well_energy_[slot] = -std::numeric_limits<double>::infinity();
+    if (slot < W) set_level(slot, -std::numeric_limits<double>::infinity());
   }
+
+  // Main lanes whose level some E can fall below (flag() can raise theirs).
+  int armed_lanes() const { return armed_lanes_; }
 
   // E = K(q, p, 0) below the lane's trap level, inside the box; branch-free, one lane of the
   // runner's own screen loop (a lane flag: basin_mapper.hpp), so that the tile is read once.
@@ -197,6 +201,12 @@ class EnergyTrap {
     return kinetic + potential_max;
   }
 
+  void set_level(int slot, double level) {
+    const auto armed = [](double e) { return e > -std::numeric_limits<double>::infinity(); };
+    armed_lanes_ += int{armed(level)} - int{armed(well_energy_[slot])};
+    well_energy_[slot] = level;
+  }
+
   // Per lane parameters: the wells of each parameter set this trap has met, kept here (a runner's
   // own, so no lock): wells_for() computes E₀ and takes the process-wide lock once per set, not
   // once per look (E₀ visits every combination of the q axes' values).
@@ -261,7 +271,8 @@ class EnergyTrap {
   mutable std::size_t last_ = 0;  // … the one met last
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
   BasinBox<D> uniform_box_{};                // … and their box, read by the screen
-  alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none)
+  alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none; set_level)
+  int armed_lanes_ = 0;                  // … how many are above −∞
   alignas(64) double box_lo_[Uniform ? 1 : D][W];  // the lane's wells' box (not Uniform)
   alignas(64) double box_hi_[Uniform ? 1 : D][W];
 };

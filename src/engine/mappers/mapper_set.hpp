@@ -73,6 +73,9 @@ class MapperSet {
     each([&](auto& m) { m.disarm(slot); });
   }
 
+  // Whether a lane flag can be raised now (else the runner's screen loop skips flag()).
+  bool flagging() const { return trap_.active() && trap_.armed_lanes() > 0; }
+
   // The lane flags of the mappers that screen with one (inside the runner's screen loop)…
   template <class Tile>
   [[gnu::always_inline]] LookInt flag(const Tile& t, int i) const {
