@@ -24,6 +24,7 @@
 
 #include "engine/dense_samples.hpp"
 #include "engine/lane_health.hpp"
+#include "engine/lane_start.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/mapper_set.hpp"
@@ -42,8 +43,6 @@ class BlockRunner {
   static constexpr bool kFormulas = kHasFormulas<Formulas>;
   static constexpr int W = 64;
   static constexpr int D = S::dof;
-  static constexpr int kMaxVars = 2 * D + 2;  // q.., p.., z, lambda
-  static constexpr int kParamSlots = sizeof(ParamsOf<S, double>) / sizeof(double);
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
@@ -76,7 +75,7 @@ class BlockRunner {
     sync_n0_ = plan.sync_first_step;
     sync_n1_ = plan.sync_last_step;
     if (m.basin) basin_early_stop_ = m.basin->early_stop;
-    idle_ = make_idle_lane();
+    idle_ = start_lane<S, Method>(plan_, out_.range.begin - plan_.point_offset, clock_.t_start).x;
   }
 
   void run() {
@@ -104,26 +103,6 @@ class BlockRunner {
 
  private:
   // ---- lanes in and out ----------------------------------------------------------------------
-
-  LaneState<D> make_idle_lane() const {
-    LaneState<D> x{};
-    double params[kParamSlots], state[kMaxVars];
-    plan_.grid.point(out_.range.begin - plan_.point_offset, params, state);
-    load_state(x, state);
-    x.t = clock_.t_start;
-    Params c = S::params_from(params);
-    Method::template start<S>(x, c);
-    return x;
-  }
-
-  static void load_state(LaneState<D>& x, const double* state) {
-    for (int d = 0; d < D; ++d) x.q[d] = state[d], x.p[d] = state[D + d];
-    x.z = state[2 * D];
-    x.mu = std::log(state[2 * D + 1]);
-    x.lambda_numerator = x.lambda_denominator = 1.0;
-    x.lambda_folds = 0.0;
-    x.broken = 0.0;
-  }
 
   // Slots 0 … W − 1 are the main tile's, W … 2W − 1 the finisher's (as the mappers count them).
   int slot(const Tile& t, int i) const { return &t == &main_ ? i : W + i; }
@@ -154,13 +133,7 @@ class BlockRunner {
 
   // Puts point `k` into main slot i; false when it is finished at once (breakdown at t = 0).
   bool load(int i, std::int64_t k) {
-    double params[kParamSlots], state[kMaxVars];
-    plan_.grid.point(k - plan_.point_offset, params, state);
-    LaneState<D> x{};
-    load_state(x, state);
-    x.t = clock_.t_start;
-    Params c = S::params_from(params);
-    Method::template start<S>(x, c);
+    auto [x, c] = start_lane<S, Method>(plan_, k - plan_.point_offset, clock_.t_start);
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
     b.point = k;
@@ -526,8 +499,7 @@ class BlockRunner {
   FormulaTracker<S, Method, carry, Uniform, Formulas, W> formulas_;
   Tile main_{}, fin_{};
   Book main_book_[W], fin_book_[W];
-  // Screening state of the main tile, structure of arrays.
-  // The main tile's step counts (Book::n is set from them when a lane is looked at): the chunks
+  // Screening state of the main tile, structure of arrays. The main tile's step counts (Book::n is set from them when a lane is looked at): the chunks
   // advanced, and per lane the count when it was loaded; one add per chunk, not one per lane.
   std::int64_t chunks_ = 0;
   alignas(64) std::int64_t first_chunk_[W];
