@@ -65,9 +65,12 @@ def draw_map(ax, f, labels2d, xname, yname, colour, value=None):
 def legend(ax, f, colour, fractions=None):
     fractions = f["attractor_fraction"][...] if fractions is None else fractions
     periods = f["attractor_period"][...]
+    # The attractors' coordinates: attractor_<variable>, one value per attractor (not the
+    # description's kind, exponent, period in time or points, docs/output.md).
+    described = ("label", "period", "fraction", "cells", "kind", "lyapunov", "time_period", "points")
     variables = [k.removeprefix("attractor_") for k in f
-                 if k.startswith("attractor_") and k not in
-                 ("attractor_label", "attractor_period", "attractor_fraction", "attractor_cells")]
+                 if k.startswith("attractor_") and k.removeprefix("attractor_") not in described
+                 and f[k].ndim == 1]
     for k, l in enumerate(f["attractor_label"][...]):
         where = ", ".join(f"{v} = {f['attractor_' + v][k]:.3g}" for v in variables)
         kind = "fixed point" if periods[k] == 1 else f"{periods[k]}-cycle"
