@@ -71,6 +71,10 @@ struct OutputFile::Impl {
   std::vector<DatasetHandle> extra_coordinates, tables;
   Checker checker;  // every HDF5 result
   bool committed = false;
+  bool incomplete = false;  // created DatasetsFirst, complete() not yet called
+  int next_dim_id = 0;      // _Netcdf4Dimid of the first extra dimension
+  std::map<std::string, std::string> written_text;  // DatasetsFirst: root attributes so far
+  std::map<std::string, double> written_numbers;
 
   [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
     fail(partial_path, what, std::move(detail));
@@ -82,6 +86,8 @@ struct OutputFile::Impl {
                                              std::optional<double> fill) const;
   DatasetHandle create_coordinate(const CoordinateSpec& coordinate, int dim_id);
   void create_dataset(const DatasetSpec& spec);
+  void write_dataset_attributes(hid_t dataset, const DatasetSpec& spec);
+  void redefine(std::size_t index, const DatasetSpec& spec);
   void create_table(const FileLayout& layout, const TableSpec& table);
   void write_selected(hid_t dataset, hid_t mem_type, hid_t file_space, hid_t mem_space,
                       const void* data, const std::string& name) const;
@@ -90,7 +96,8 @@ struct OutputFile::Impl {
   std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
   const Dataset* find(const std::string& name) const;
   std::string request_problem(const std::string& name, const std::vector<PointRange>& ranges) const;
-  void create(const FileLayout& layout);
+  void create(const FileLayout& layout, bool datasets_first = false);
+  void create_late(const FileLayout& layout);
   void write(const Dataset& target, const std::vector<PointRange>& ranges, const void* data) const;
   void write_box_by_box(const Dataset& target, const std::vector<PointRange>& runs,
                         const void* data) const;
@@ -242,17 +249,55 @@ void OutputFile::Impl::create_dataset(const DatasetSpec& spec) {
     checker(H5DSattach_scale(dataset.get(), coordinates.back().get(),
                            static_cast<unsigned>(grid_dims.size())), what + ": cannot attach the time scale");
   }
-  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, checker);
+  write_dataset_attributes(dataset.get(), spec);
+  datasets.push_back(Dataset{spec, std::move(dataset)});
+}
+
+void OutputFile::Impl::write_dataset_attributes(hid_t dataset, const DatasetSpec& spec) {
+  write_descriptive_attributes(dataset, spec.long_name, spec.units, checker);
   if (!spec.flag_values.empty()) {
-    write_flag_values(dataset.get(), spec.flag_values, spec.type, checker);
+    write_flag_values(dataset, spec.flag_values, spec.type, checker);
   }
   if (!spec.flag_meanings.empty()) {
-    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, checker);
+    write_text_attribute(dataset, "flag_meanings", spec.flag_meanings, checker);
   }
   if (spec.fill_value) {
-    write_typed_attribute(dataset.get(), "_FillValue", *spec.fill_value, spec.type, checker);
+    write_typed_attribute(dataset, "_FillValue", *spec.fill_value, spec.type, checker);
   }
-  datasets.push_back(Dataset{spec, std::move(dataset)});
+}
+
+static bool same_description(const DatasetSpec& a, const DatasetSpec& b) {
+  return a.name == b.name && a.type == b.type && a.has_time_dim == b.has_time_dim &&
+         a.long_name == b.long_name && a.units == b.units && a.flag_values == b.flag_values &&
+         a.flag_meanings == b.flag_meanings && a.fill_value == b.fill_value &&
+         a.unwritten_value == b.unwritten_value;
+}
+
+// A dataset whose description is known only at the end (`basin`): same type and fill, its
+// attributes replaced; else (labels past int8), never written yet, it is made again under its
+// name. That moves it last in creation order, behind the datasets created before it.
+void OutputFile::Impl::redefine(std::size_t index, const DatasetSpec& spec) {
+  Dataset& old = datasets[index];
+  const std::string what = "cannot redefine dataset '" + spec.name + "'";
+  if (old.spec.type == spec.type && old.spec.has_time_dim == spec.has_time_dim &&
+      old.spec.fill_value == spec.fill_value && old.spec.unwritten_value == spec.unwritten_value) {
+    for (const char* name : {"long_name", "units", "flag_values", "flag_meanings", "_FillValue"}) {
+      const htri_t exists = checker(H5Aexists(old.handle.get(), name), what);
+      if (exists > 0) checker(H5Adelete(old.handle.get(), name), what);
+    }
+    write_dataset_attributes(old.handle.get(), spec);
+    old.spec = spec;
+    return;
+  }
+  for (std::size_t d = 0; d < grid_dims.size(); ++d)
+    checker(H5DSdetach_scale(old.handle.get(), coordinates[d].get(), static_cast<unsigned>(d)), what);
+  if (old.spec.has_time_dim)
+    checker(H5DSdetach_scale(old.handle.get(), coordinates.back().get(),
+                             static_cast<unsigned>(grid_dims.size())), what);
+  checker.require(old.handle.close(), what);
+  checker(H5Ldelete(file.get(), spec.name.c_str(), H5P_DEFAULT), what);
+  datasets.erase(datasets.begin() + static_cast<std::ptrdiff_t>(index));
+  create_dataset(spec);
 }
 
 void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
@@ -318,7 +363,7 @@ std::string OutputFile::Impl::request_problem(const std::string& name,
   return {};
 }
 
-void OutputFile::Impl::create(const FileLayout& layout) {
+void OutputFile::Impl::create(const FileLayout& layout, bool datasets_first) {
   validate(layout);
   for (const CoordinateSpec& axis : layout.axes) {
     grid_dims.push_back(axis.values.size());
@@ -341,6 +386,18 @@ void OutputFile::Impl::create(const FileLayout& layout) {
   }
   if (layout.time) coordinates.push_back(create_coordinate(*layout.time, dim_id++));
   for (const DatasetSpec& spec : layout.datasets) create_dataset(spec);
+  next_dim_id = dim_id;
+  if (datasets_first) {
+    incomplete = true;
+    written_text = layout.text_attributes;
+    written_numbers = layout.number_attributes;
+    return;
+  }
+  create_late(layout);
+}
+
+void OutputFile::Impl::create_late(const FileLayout& layout) {
+  int dim_id = next_dim_id;
   for (const CoordinateSpec& extra : layout.extra_dimensions)
     extra_coordinates.push_back(create_coordinate(extra, dim_id++));
   for (const TableSpec& table : layout.tables) create_table(layout, table);
@@ -461,6 +518,42 @@ OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout)
   }
 }
 
+OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, DatasetsFirst)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->final_path = final_path;
+  impl_->partial_path = final_path + ".partial";
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  impl_->checker = Checker(impl_->partial_path);
+  try {
+    impl_->create(layout, true);
+  } catch (...) {
+    impl_->abandon();
+    throw;
+  }
+}
+
+void OutputFile::complete(const FileLayout& whole) {
+  Impl& s = *impl_;
+  if (!s.incomplete) fail(s.partial_path, "complete() without DatasetsFirst, or twice");
+  s.validate(whole);
+  if (whole.datasets.size() != s.datasets.size())
+    fail(s.partial_path, "complete(): the datasets differ from the file's");
+  for (const DatasetSpec& spec : whole.datasets) {
+    std::size_t index = 0;
+    while (index < s.datasets.size() && s.datasets[index].spec.name != spec.name) ++index;
+    if (index == s.datasets.size())
+      fail(s.partial_path, "complete(): no dataset named '" + spec.name + "'");
+    if (!same_description(s.datasets[index].spec, spec)) s.redefine(index, spec);
+  }
+  for (const auto& [name, value] : whole.text_attributes)
+    if (!s.written_text.contains(name)) write_text_attribute(s.file.get(), name, value, s.checker);
+  for (const auto& [name, value] : whole.number_attributes)
+    if (!s.written_numbers.contains(name))
+      write_number_attribute(s.file.get(), name, value, s.checker);
+  s.create_late(whole);
+  s.incomplete = false;
+}
+
 OutputFile::~OutputFile() {
   if (impl_ && !impl_->committed) impl_->abandon();
 }
@@ -475,6 +568,7 @@ void OutputFile::write(const std::string& dataset, const std::vector<PointRange>
 void OutputFile::commit(bool replace_existing) {
   Impl& s = *impl_;
   if (s.committed) fail(s.final_path, "commit called twice");
+  if (s.incomplete) fail(s.partial_path, "commit before complete()");
   s.checker.require(s.flush(), "cannot write the file's metadata");
   s.checker.require(s.close_all(), "cannot close the file");
   file_system_step(s.final_path, "cannot put the finished file in place",

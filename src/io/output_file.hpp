@@ -77,6 +77,11 @@ class OutputFile {
   // Creates `final_path + ".partial"` (replacing a stale one) with every dataset. Throws
   // std::runtime_error naming the path on failure. No MPI call.
   OutputFile(const std::string& final_path, const FileLayout& layout);
+  // Streaming (parallel/block_stream.hpp): creates only the root attributes, axes, time and
+  // `layout.datasets`, so that blocks can be written as they are computed; complete() adds
+  // what needs the whole map (the attractor table, statistics) before the commit.
+  struct DatasetsFirst {};
+  OutputFile(const std::string& final_path, const FileLayout& layout, DatasetsFirst);
   ~OutputFile();  // closes and removes the temporary file unless commit() ran
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -85,6 +90,13 @@ class OutputFile {
   // back to back in that order (times the length of `t` for time datasets), in the dataset's
   // element type.
   void write(const std::string& dataset, const std::vector<PointRange>& ranges, const void* data);
+
+  // After the DatasetsFirst constructor, once: `whole` is the layout the file would have been
+  // created with. Adds its extra dimensions, tables and root attributes the file lacks, and
+  // redefines each dataset whose description changed (`basin` once its labels are known: its
+  // attributes; its type, a dataset never written yet, recreated, when they outgrow int8).
+  // Objects are created in the order the one-step constructor creates them.
+  void complete(const FileLayout& whole);
 
   // Flush, close, sync the file, put it under the final path and sync the directory.
   // Without `replace_existing`, a file already at the final path is never replaced: the commit

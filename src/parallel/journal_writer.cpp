@@ -5,10 +5,12 @@
 namespace cs {
 
 JournalWriter::JournalWriter(const Journal& journal, std::function<void(std::int64_t)> on_saved,
-                             std::function<void()> on_failure)
+                             std::function<void()> on_failure,
+                             std::function<void(const BlockResults&)> on_block_saved)
     : journal_(journal),
       on_saved_(std::move(on_saved)),
       on_failure_(std::move(on_failure)),
+      on_block_saved_(std::move(on_block_saved)),
       thread_([this] { work(); }) {}
 
 JournalWriter::~JournalWriter() { close(); }
@@ -56,8 +58,12 @@ void JournalWriter::work() {
     }
     changed_.notify_all();
     lock.unlock();
-    if (failed) on_failure_();
-    else on_saved_(++saved_);
+    if (failed) {
+      on_failure_();
+    } else {
+      if (on_block_saved_) on_block_saved_(*block);
+      on_saved_(++saved_);
+    }
     lock.lock();
   }
 }

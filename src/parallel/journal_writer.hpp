@@ -23,10 +23,14 @@ namespace cs {
 
 class JournalWriter {
  public:
+  static constexpr std::size_t kMaxQueued = 4;  // blocks waiting for their save
   // on_saved(n): on the writer's thread, after the n-th block of this writer is in place.
   // on_failure(): on the writer's thread, once, when a save fails; nothing is saved after it.
+  // on_block_saved(block): on the writer's thread, before on_saved, with the block just saved
+  // (the output stream takes it from there: parallel/block_stream.hpp).
   JournalWriter(const Journal& journal, std::function<void(std::int64_t)> on_saved,
-                std::function<void()> on_failure);
+                std::function<void()> on_failure,
+                std::function<void(const BlockResults&)> on_block_saved = {});
   ~JournalWriter();  // waits for the queue like finish(), without throwing
   JournalWriter(const JournalWriter&) = delete;
   JournalWriter& operator=(const JournalWriter&) = delete;
@@ -41,13 +45,13 @@ class JournalWriter {
   void finish();
 
  private:
-  static constexpr std::size_t kMaxQueued = 4;
   void work();
   void close();
 
   const Journal& journal_;
   std::function<void(std::int64_t)> on_saved_;
   std::function<void()> on_failure_;
+  std::function<void(const BlockResults&)> on_block_saved_;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<const BlockResults*> queue_;

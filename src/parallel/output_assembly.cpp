@@ -123,14 +123,6 @@ ColumnPiece receive_piece(int from, MPI_Comm comm) {
   return piece;
 }
 
-template <class T>
-std::vector<T> converted(const std::vector<double>& values) {
-  std::vector<T> out(values.size());
-  std::transform(values.begin(), values.end(), out.begin(),
-                 [](double v) { return static_cast<T>(v); });
-  return out;
-}
-
 // Gathers consecutive blocks of one column into one write request: blocks that touch merge
 // into one box of the file (OutputFile writes box by box), and each HDF5 call has a fixed cost
 // (~0.2 ms a block through MPI-IO once; 384 writes for a 512² map). The batch is bounded, so
@@ -145,21 +137,7 @@ class ColumnBatch {
   }
   void flush() {
     if (ranges_.empty()) return;
-    switch (dataset_.type) {
-      case ElementType::float64: file_.write(dataset_.name, ranges_, values_.data()); break;
-      case ElementType::int8:
-        file_.write(dataset_.name, ranges_, converted<std::int8_t>(values_).data());
-        break;
-      case ElementType::uint8:
-        file_.write(dataset_.name, ranges_, converted<std::uint8_t>(values_).data());
-        break;
-      case ElementType::int16:
-        file_.write(dataset_.name, ranges_, converted<std::int16_t>(values_).data());
-        break;
-      case ElementType::int32:
-        file_.write(dataset_.name, ranges_, converted<std::int32_t>(values_).data());
-        break;
-    }
+    write_values(file_, dataset_, ranges_, values_);
     ranges_.clear();
     values_.clear();
   }
@@ -183,14 +161,37 @@ void check_output_names(const RunPlan& plan) {
                      "' (a grid axis or parameter and a measure's dataset); rename the parameter");
 }
 
-void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
-                  const OutputOptions& options, MPI_Comm comm) {
-  const int rank = rank_of(comm), ranks = size_of(comm);
-  int threads = omp_get_max_threads();
-  allreduce(comm, &threads, 1, MPI_INT, MPI_MAX);
+static bool is_streamed(const RunPlan& plan, std::size_t k) {
+  return !plan.columns[k].internal && static_cast<int>(k) != plan.map.basin;
+}
 
+std::vector<BlockStream::Column> streamed_columns(const RunPlan& plan) {
+  std::vector<BlockStream::Column> columns;
+  for (std::size_t k = 0; k < plan.columns.size(); ++k)
+    if (is_streamed(plan, k))
+      columns.push_back({static_cast<int>(k), plan.columns[k].width, plan.columns[k].dataset});
+  return columns;
+}
+
+void open_output(const RunPlan& plan, const OutputOptions& options, OpenOutput& output,
+                 MPI_Comm comm) {
+  output.ranks = size_of(comm);
+  output.threads = omp_get_max_threads();
+  allreduce(comm, &output.threads, 1, MPI_INT, MPI_MAX);
+  OutputOptions early = options;
+  early.basins = nullptr;  // known at the end: complete() adds them
+  agreed(comm, [&] {
+    if (rank_of(comm) == 0)
+      output.file.emplace(options.path, make_layout(plan, early, output.ranks, output.threads),
+                          OutputFile::DatasetsFirst{});
+  });
+}
+
+void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
+                  const OutputOptions& options, OpenOutput& output, MPI_Comm comm) {
+  const int rank = rank_of(comm), ranks = size_of(comm);
   // Rank 0: after a failure it stops writing but goes on receiving, so that no sender waits.
-  std::optional<OutputFile> file;
+  std::optional<OutputFile>& file = output.file;
   std::exception_ptr failure;
   auto attempt = [&](auto&& step) {
     if (failure) return;
@@ -202,10 +203,10 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     }
   };
   if (rank == 0)
-    attempt([&] { file.emplace(options.path, make_layout(plan, options, ranks, threads)); });
+    attempt([&] { file->complete(make_layout(plan, options, output.ranks, output.threads)); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec dataset = written_dataset(plan, options, k);
-    if (plan.columns[k].internal) continue;
+    if (plan.columns[k].internal || is_streamed(plan, k)) continue;
     if (rank != 0) {
       send_column(results, k, comm);
       continue;

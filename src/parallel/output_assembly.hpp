@@ -8,18 +8,25 @@
 // call spans ranks: rank 0 keeps receiving to the end whatever happens, and the outcome is agreed
 // afterwards. The price is the write bandwidth of one rank, which for the maps we write (tens
 // of MB to a few GB) is seconds against minutes to hours of integration.
+//
+// The file is opened before the first block (open_output) and most columns are written while
+// the run goes on (parallel/block_stream.hpp); what needs every block (`basin`'s labels, the
+// attractor table, the statistics) is written at the end (write_output), then the file is put
+// in place. Until then it has its temporary name only.
 #pragma once
 
 #include <mpi.h>
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
 #include "parallel/basin_summary.hpp"
+#include "parallel/block_stream.hpp"
 
 namespace cs {
 
@@ -35,10 +42,25 @@ struct OutputOptions {
 // (a K parameter named `status`, `basin`, `attractor`, ... swept as a grid axis).
 void check_output_names(const RunPlan& plan);
 
-// Collective. `results` are this rank's blocks in ascending order of their points. Throws a
+// The temporary file, open on rank 0 (empty elsewhere), and the layout facts every rank shares.
+struct OpenOutput {
+  std::optional<OutputFile> file;
+  int ranks = 1, threads = 1;
+};
+
+// Collective, before the first block: rank 0 creates the temporary file with every per-point
+// dataset. A failure is thrown on every rank (CollectiveError).
+void open_output(const RunPlan& plan, const OutputOptions& options, OpenOutput& output,
+                 MPI_Comm comm);
+
+// The columns written while the run goes on: every written column but `basin`.
+std::vector<BlockStream::Column> streamed_columns(const RunPlan& plan);
+
+// Collective. Writes what the stream did not (`basin`, from `results`: this rank's blocks in
+// ascending order of their points), the attractor table and statistics, then commits. Throws a
 // CollectiveError on every rank when the file could not be written; no file is then left
 // under either name.
 void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
-                  const OutputOptions& options, MPI_Comm comm);
+                  const OutputOptions& options, OpenOutput& output, MPI_Comm comm);
 
 }  // namespace cs

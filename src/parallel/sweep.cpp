@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
@@ -29,6 +30,7 @@
 #include "mpi/comm.hpp"
 #include "mpi/failure_watch.hpp"
 #include "parallel/basin_summary.hpp"
+#include "parallel/block_stream.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/journal_writer.hpp"
 #include "parallel/output_assembly.hpp"
@@ -81,13 +83,18 @@ std::vector<Block> my_blocks(const std::vector<std::unique_ptr<RunPlan>>& slices
   return blocks;
 }
 
-std::int64_t count_status(const std::vector<std::unique_ptr<BlockResults>>& blocks, int column,
-                          LaneStatus status) {
-  std::int64_t n = 0;
-  for (const auto& b : blocks)
-    for (double v : b->columns[static_cast<std::size_t>(column)])
-      n += v == static_cast<double>(status);
-  return n;
+// How many of a block's lanes ended with each failing status (the summary line): counted as
+// the block finishes, since its `status` column is freed once written (block_stream.hpp).
+using StatusCounts = std::array<std::atomic<std::int64_t>, 4>;
+constexpr LaneStatus kCountedStatuses[4] = {LaneStatus::diverged, LaneStatus::breakdown,
+                                            LaneStatus::non_finite,
+                                            LaneStatus::undefined_at_start};
+
+void count_statuses(const BlockResults& block, int column, StatusCounts& counts) {
+  std::int64_t n[4] = {};
+  for (double v : block.columns[static_cast<std::size_t>(column)])
+    for (int s = 0; s < 4; ++s) n[s] += v == static_cast<double>(kCountedStatuses[s]);
+  for (int s = 0; s < 4; ++s) counts[static_cast<std::size_t>(s)] += n[s];
 }
 
 double values_per_point(const RunPlan& plan) {
@@ -99,6 +106,27 @@ double values_per_point(const RunPlan& plan) {
 
 double file_bytes(const RunPlan& plan) {
   return static_cast<double>(plan.grid.size()) * values_per_point(plan) * sizeof(double);
+}
+
+// What a rank holds, in doubles: the columns written as blocks finish only while the blocks are
+// in flight; `basin` and the basin summary's internal columns for each of its blocks until the
+// end (a per-block column counted once per block).
+struct HeldValues {
+  double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
+};
+
+HeldValues held_values(const RunPlan& plan) {
+  HeldValues held;
+  for (const auto& column : streamed_columns(plan))
+    held.per_point_in_flight += static_cast<double>(column.width);
+  for (std::size_t k = 0; k < plan.columns.size(); ++k) {
+    const ColumnSpec& column = plan.columns[k];
+    const bool kept = column.internal || static_cast<int>(k) == plan.map.basin;
+    if (!kept) continue;
+    if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
+    else held.per_point_kept += static_cast<double>(column.width);
+  }
+  return held;
 }
 
 // A final write this large takes long enough on a cluster file system to be announced.
@@ -133,16 +161,28 @@ void check_every_point_computed(const std::vector<std::unique_ptr<BlockResults>>
 
 std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0 * 1024 * 1024)); }
 
-// Collective. Refuses, before any work, a run whose results cannot fit: every rank holds the
-// results of its blocks until the end, and ranks on one node share its memory (counted per
-// node, against that node's budget); at the end the disk holds the journal and the file at once.
-void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t blocks,
+// Collective. Refuses, before any work, a run whose results cannot fit. A rank holds its blocks
+// in flight (being computed by its threads, queued for the journal, queued for the output: at
+// most about two per thread and the journal's queue) and, on a basin map, each block's labels
+// and internal columns until the end; rank 0 also gathers the whole map's labels for the
+// statistics. Ranks on one node share its memory (counted per node, against that node's
+// budget); at the end the disk holds the journal and the file at once.
+void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,
+                     std::int64_t block_size, std::int64_t blocks,
                      const StartDecision& decision, const SweepOptions& options, const Comm& c) {
-  const double values = values_per_point(plan);
+  const HeldValues held = held_values(plan);
+  const double in_flight_blocks = std::min<double>(
+      static_cast<double>(local_blocks),
+      2.0 * omp_get_max_threads() + static_cast<double>(JournalWriter::kMaxQueued));
+  double node_bytes =
+      (in_flight_blocks * static_cast<double>(block_size) * held.per_point_in_flight +
+       static_cast<double>(local_points) * held.per_point_kept +
+       static_cast<double>(local_blocks) * held.per_block_kept) * sizeof(double);
+  if (c.rank == 0 && plan.map.basin >= 0)  // the labels gathered, as doubles and as labels
+    node_bytes += static_cast<double>(plan.grid.size()) * (sizeof(double) + sizeof(BasinLabel));
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(c.comm))
     MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
-  double node_bytes = static_cast<double>(local_points) * values * sizeof(double);
   allreduce(node, &node_bytes, 1, MPI_DOUBLE, MPI_SUM);
   const int node_ranks = size_of(node);
   if (!serial(node)) MPI_Comm_free(&node);
@@ -150,10 +190,10 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
     const MemoryBudget budget = memory_budget();
     if (node_bytes > 0.8 * budget.bytes)
       throw InputError(fmt::format(
-          "the results need {} of memory on this node ({} rank(s); {} points x {} values in "
-          "all) but {} is available ({}); use a coarser grid, fewer measures, a larger "
-          "trajectory.every or more nodes",
-          gib(node_bytes), node_ranks, plan.grid.size(), values, gib(budget.bytes),
+          "the results need {} of memory on this node ({} rank(s); blocks of {} points in "
+          "flight, {} values per point kept to the end) but {} is available ({}); use a "
+          "coarser grid, fewer measures, a larger trajectory.every or more nodes",
+          gib(node_bytes), node_ranks, block_size, held.per_point_kept, gib(budget.bytes),
           budget.source));
     if (c.rank != 0) return;
     const double output_bytes = file_bytes(plan) + 65536.0;  // + HDF5 metadata
@@ -276,8 +316,8 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   auto blocks = my_blocks(slices, block_size, c);
   std::int64_t local_points = 0;
   for (const auto& b : blocks) local_points += b.range.end - b.range.begin;
-  check_resources(plan, local_points, static_cast<std::int64_t>(blocks.size()) * c.size, decision,
-                  options, c);
+  check_resources(plan, local_points, static_cast<std::int64_t>(blocks.size()), block_size,
+                  static_cast<std::int64_t>(blocks.size()) * c.size, decision, options, c);
   if (decision.start == Start::fresh)
     agreed(comm, [&] {
       if (c.rank == 0)
@@ -291,14 +331,23 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   const auto stop_requested = [control = options.control] {
     return control != nullptr && control->stop_requested();
   };
+  OutputOptions output_options{options.output, options.command_line, decision.replace_output,
+                               [&] { test_kill_point("write", c.rank); }, nullptr};
+  OpenOutput output;  // destroyed last on a failure: removes the temporary file
+  open_output(plan, output_options, output, comm);
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
   std::atomic<std::int64_t> computed{0};
+  StatusCounts statuses{};
   std::exception_ptr failure;
   FailureWatch watch(comm);
-  // Declared after `results`: destroyed first, so it never saves a block that is gone.
+  BlockStream stream(streamed_columns(plan), output.file ? &*output.file : nullptr,
+                     [&] { watch.report_failure(); }, comm);
+  // Declared after `results` and `stream`: destroyed first, so it never saves or hands over a
+  // block that is gone. A saved block goes on to the output: the journal is done with it.
   JournalWriter journal_writer(
       journal, [&](std::int64_t saved) { test_kill_point("block", c.rank, saved); },
-      [&] { watch.report_failure(); });  // no thread of any rank starts another block
+      [&] { watch.report_failure(); },  // no thread of any rank starts another block
+      [&](const BlockResults& saved) { stream.add(const_cast<BlockResults&>(saved)); });
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!watch.stop() && !stop_requested()) {
@@ -307,8 +356,11 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         results[i] = std::make_unique<BlockResults>(blocks[i].range, plan.columns);
         results[i]->in_flight_steps = progress.in_flight_steps();
         const bool loaded = decision.start == Start::resume && journal.load(*results[i]);
-        if (!loaded) {
-          run_block(*blocks[i].plan, *results[i]);
+        if (!loaded) run_block(*blocks[i].plan, *results[i]);
+        count_statuses(*results[i], plan.map.status, statuses);
+        if (loaded) {
+          stream.add(*results[i]);
+        } else {
           journal_writer.submit(*results[i]);
           computed += n;
         }
@@ -319,14 +371,19 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         watch.report_failure();  // no thread of any rank starts another block
       }
     }
-    if (omp_get_thread_num() == 0) watch.poll();
+    if (omp_get_thread_num() == 0) {
+      watch.poll();
+      stream.poll();
+    }
   }
   try {
-    journal_writer.finish();  // every computed block in place before the output is written
+    journal_writer.finish();  // every computed block saved, hence handed to the stream
   } catch (...) {
     if (!failure) failure = std::current_exception();
     watch.report_failure();
   }
+  stream.finish([&] { watch.poll(); });  // rank 0 has written every block it was sent
+  if (!failure && stream.failure()) failure = stream.failure();
   watch.finish();
   throw_if_any_failed(comm, failure);
   // Serial only (RunControl): no other rank to agree with. The caller (the Python module) has
@@ -358,24 +415,19 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   }
 
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
-    log("contactsweep: computed every point; writing {} ({})", options.output,
+    log("contactsweep: computed every point; completing {} ({})", options.output,
         gib(file_bytes(plan)));
   // A failure here is thrown on every rank; the journal stays for --resume.
-  write_output(plan, results,
-               {options.output, options.command_line, decision.replace_output,
-                [&] { test_kill_point("write", c.rank); }, basins ? &*basins : nullptr},
-               comm);
+  output_options.basins = basins ? &*basins : nullptr;
+  write_output(plan, results, output_options, output, comm);
   test_kill_point("commit", c.rank);
   if (c.rank == 0) remove_finished_journal(journal);
   if (basins && c.rank == 0 && !options.quiet) log("contactsweep: {}", describe(*basins));
 
   std::int64_t lane_steps = 0;
   for (const auto& r : results) lane_steps += r->lane_steps;
-  std::int64_t counts[6] = {count_status(results, plan.map.status, LaneStatus::diverged),
-                            count_status(results, plan.map.status, LaneStatus::breakdown),
-                            count_status(results, plan.map.status, LaneStatus::non_finite),
-                            count_status(results, plan.map.status, LaneStatus::undefined_at_start),
-                            computed.load(), lane_steps};
+  std::int64_t counts[6] = {statuses[0].load(), statuses[1].load(), statuses[2].load(),
+                            statuses[3].load(), computed.load(), lane_steps};
   allreduce(comm, counts, 6, MPI_INT64_T, MPI_SUM);
   summary.flagged_diverged = counts[0];
   summary.flagged_breakdown = counts[1];
