@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The memory check counts blocks in flight, not the grid (issue 27): rank 0 writes blocks into
+# the output as they finish, so a basin map with trajectories whose whole results exceed the
+# budget runs, and writes the file a run without a budget writes; a budget below its blocks in
+# flight is still refused (exit 2, nothing written). One thread: in flight = 2·threads + 4 blocks.
+#
+# test_memory_budget.sh BIN SPEC COMPARE WORK
+set -u
+bin=$1 spec=$2 compare=$3 work=$4
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+export OMP_NUM_THREADS=1
+# 64² points; t_end 10 at h 0.01 with a sample every 100 steps: 11 samples of 5 trajectories,
+# so 4 + 5·11 = 59 values a point; blocks of 256 points (the smallest), 16 of them.
+args=(--set grid.q_0.n=64 --set grid.p_0.n=64 --set integrator.t_end=10
+      --set "measures.trajectory={every=100}")
+points=4096 values=59 limit=$((1536 * 1024))
+fail() { echo "FAIL: $*"; exit 1; }
+# Held to the end, the results alone would take more than the 80 % of the budget a run may use.
+((points * values * 8 * 10 > 8 * limit)) || fail "the case no longer exceeds the budget as a whole"
+"$bin" run "$spec" "${args[@]}" -o reference.h5 --quiet || fail "the run without a budget"
+CONTACTSWEEP_MEMORY_LIMIT=1536K "$bin" run "$spec" "${args[@]}" -o budget.h5 --quiet >budget.log 2>&1 ||
+  fail "refused under a budget its blocks in flight fit: $(cat budget.log)"
+out=$(/usr/bin/python3 "$compare" reference.h5 budget.h5) || fail "budget.h5: $out"
+CONTACTSWEEP_MEMORY_LIMIT=256K "$bin" run "$spec" "${args[@]}" -o small.h5 --quiet >small.log 2>&1
+rc=$?
+((rc == 2)) || fail "a budget below the blocks in flight: exit $rc, expected 2"
+grep -q "blocks of 256 points in flight" small.log || fail "the message: $(cat small.log)"
+[[ ! -e small.h5 && ! -e small.h5.partial && ! -e small.h5.journal ]] || fail "something was written"
+echo "ok: counted blocks in flight (accepted at 1.5 MiB, refused at 256 KiB)"
