@@ -35,34 +35,41 @@ int first_parameter_axis(const RunSpec& spec) {
   return -1;
 }
 
-// Rank 0: every point's label, in grid order.
+// Rank 0: every point's label, in grid order. The other ranks send theirs block by block as
+// labels (4 bytes a point): nothing on any rank holds a second copy of the map as doubles.
 std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
                                          const std::vector<std::unique_ptr<BlockResults>>& results,
                                          MPI_Comm comm) {
-  if (serial(comm)) {  // one process: straight from the blocks (gather would copy them twice)
-    std::vector<BasinLabel> labels(static_cast<std::size_t>(whole.grid.size()));
+  const int rank = rank_of(comm);
+  const auto basin = static_cast<std::size_t>(whole.map.basin);
+  std::vector<BasinLabel> labels(rank == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
+  if (rank == 0)
+    for (const auto& block : results)
+      std::transform(block->columns[basin].begin(), block->columns[basin].end(),
+                     labels.begin() + block->range.begin,
+                     [](double v) { return static_cast<BasinLabel>(v); });
+  if (serial(comm)) return labels;
+  if (rank != 0) {
+    const auto blocks = static_cast<std::int64_t>(results.size());
+    MPI_Send(&blocks, 1, MPI_INT64_T, 0, 0, comm);
+    std::vector<BasinLabel> mine;
     for (const auto& block : results) {
-      const auto& column = block->columns[static_cast<std::size_t>(whole.map.basin)];
-      for (std::int64_t i = block->range.begin; i < block->range.end; ++i)
-        labels[static_cast<std::size_t>(i)] =
-            static_cast<BasinLabel>(column[static_cast<std::size_t>(i - block->range.begin)]);
-    }
+      const std::int64_t range[2] = {block->range.begin, block->range.end};
+      mine.assign(block->columns[basin].begin(), block->columns[basin].end());
+      MPI_Send(range, 2, MPI_INT64_T, 0, 0, comm);
+      MPI_Send(mine.data(), static_cast<int>(mine.size()), MPI_INT32_T, 0, 0, comm);  // a block
+    }                                                                 // is at most 2^20 points
     return labels;
   }
-  std::vector<double> mine;
-  for (const auto& block : results) {
-    mine.push_back(static_cast<double>(block->range.begin));
-    mine.push_back(static_cast<double>(block->range.end));
-    const auto& labels = block->columns[static_cast<std::size_t>(whole.map.basin)];
-    mine.insert(mine.end(), labels.begin(), labels.end());
-  }
-  const std::vector<double> all = gather(comm, mine, false);
-  std::vector<BasinLabel> labels(rank_of(comm) == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
-  for (std::size_t k = 0; k < all.size();) {
-    const auto begin = static_cast<std::int64_t>(all[k]), end = static_cast<std::int64_t>(all[k + 1]);
-    for (std::int64_t i = begin; i < end; ++i)
-      labels[static_cast<std::size_t>(i)] = static_cast<BasinLabel>(all[k + 2 + static_cast<std::size_t>(i - begin)]);
-    k += 2 + static_cast<std::size_t>(end - begin);
+  for (int from = 1; from < size_of(comm); ++from) {
+    std::int64_t blocks = 0;
+    MPI_Recv(&blocks, 1, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
+    for (; blocks > 0; --blocks) {
+      std::int64_t range[2];
+      MPI_Recv(range, 2, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
+      MPI_Recv(labels.data() + range[0], static_cast<int>(range[1] - range[0]), MPI_INT32_T, from,
+               0, comm, MPI_STATUS_IGNORE);
+    }
   }
   return labels;
 }
@@ -215,6 +222,15 @@ BasinSummary summarise_basins(const RunPlan& whole,
           slice));
   }
   return summary;
+}
+
+double summary_bytes_on_rank0(const RunPlan& whole) {
+  const BasinMapShape shape = map_shape(whole.spec);
+  double plane = 1.0;
+  for (int a = 0; a < shape.plane_axes; ++a)
+    plane *= static_cast<double>(shape.dims[shape.dims.size() - 1 - static_cast<std::size_t>(a)]);
+  return static_cast<double>(whole.grid.size()) * sizeof(BasinLabel) +
+         plane * (2 * sizeof(std::uint64_t) + 3);
 }
 
 void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {

@@ -45,6 +45,10 @@ struct BasinSummary {
 BasinSummary summarise_basins(const RunPlan& whole,
                               std::vector<std::unique_ptr<BlockResults>>& results, MPI_Comm comm);
 
+// Rank 0's memory for the statistics of the whole map, at the end: every point's label and the
+// Wada test's work on one plane of initial conditions (two 64-bit masks and three bytes a cell).
+double summary_bytes_on_rank0(const RunPlan& whole);
+
 // The attractor table along a dimension `attractor`, the fractions along the continuation axis
 // and the statistics as root attributes (INTERFACE.md).
 void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout);

@@ -165,7 +165,7 @@ std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0
 // in flight (being computed by its threads, queued for the journal, queued for the output: at
 // most about two per thread and the journal's queue) and, on a basin map, each block's labels
 // and internal columns until the end; rank 0 also gathers the whole map's labels for the
-// statistics. Ranks on one node share its memory (counted per node, against that node's
+// statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
 // budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,
                      std::int64_t block_size, std::int64_t blocks,
@@ -178,8 +178,7 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
       (in_flight_blocks * static_cast<double>(block_size) * held.per_point_in_flight +
        static_cast<double>(local_points) * held.per_point_kept +
        static_cast<double>(local_blocks) * held.per_block_kept) * sizeof(double);
-  if (c.rank == 0 && plan.map.basin >= 0)  // the labels gathered, as doubles and as labels
-    node_bytes += static_cast<double>(plan.grid.size()) * (sizeof(double) + sizeof(BasinLabel));
+  if (c.rank == 0 && plan.map.basin >= 0) node_bytes += summary_bytes_on_rank0(plan);
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(c.comm))
     MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
