@@ -19,6 +19,7 @@
 
 #include "io/durable_file.hpp"
 #include "io/hdf5_objects.hpp"
+#include "io/output_file_impl.hpp"
 #include "io/point_boxes.hpp"
 
 namespace cs {
@@ -53,58 +54,6 @@ double expected_bytes(const FileLayout& layout) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-
-struct OutputFile::Impl {
-  struct Dataset {
-    DatasetSpec spec;
-    DatasetHandle handle;
-  };
-
-  std::string final_path;
-  std::string partial_path;
-  std::vector<hsize_t> grid_dims;  // axis lengths, first slowest
-  std::int64_t points = 1;         // product of grid_dims (1: a single trajectory)
-  hsize_t time_length = 0;
-  FileHandle file;
-  std::vector<DatasetHandle> coordinates;  // axes..., then t
-  std::vector<Dataset> datasets;
-  std::vector<DatasetHandle> extra_coordinates, tables;
-  Checker checker;  // every HDF5 result
-  bool committed = false;
-  bool incomplete = false;  // created DatasetsFirst, complete() not yet called
-  int next_dim_id = 0;      // _Netcdf4Dimid of the first extra dimension
-  std::map<std::string, std::string> written_text;  // DatasetsFirst: root attributes so far
-  std::map<std::string, double> written_numbers;
-
-  [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
-    fail(partial_path, what, std::move(detail));
-  }
-
-  void validate(const FileLayout& layout) const;
-  void create_file(const FileLayout& layout);
-  PropertyHandle dataset_creation_properties(const std::vector<hsize_t>& shape, ElementType type,
-                                             std::optional<double> fill) const;
-  DatasetHandle create_coordinate(const CoordinateSpec& coordinate, int dim_id);
-  void create_dataset(const DatasetSpec& spec);
-  void write_dataset_attributes(hid_t dataset, const DatasetSpec& spec);
-  void redefine(std::size_t index, const DatasetSpec& spec);
-  void create_table(const FileLayout& layout, const TableSpec& table);
-  void write_selected(hid_t dataset, hid_t mem_type, hid_t file_space, hid_t mem_space,
-                      const void* data, const std::string& name) const;
-  void write_whole(hid_t dataset, hsize_t elements, hid_t mem_type, const void* data,
-                   const std::string& name, const std::string& what) const;
-  std::vector<hsize_t> shape_of(const DatasetSpec& spec) const;
-  const Dataset* find(const std::string& name) const;
-  std::string request_problem(const std::string& name, const std::vector<PointRange>& ranges) const;
-  void create(const FileLayout& layout, bool datasets_first = false);
-  void create_late(const FileLayout& layout);
-  void write(const Dataset& target, const std::vector<PointRange>& ranges, const void* data) const;
-  void write_box_by_box(const Dataset& target, const std::vector<PointRange>& runs,
-                        const void* data) const;
-  bool flush();
-  bool close_all();
-  void abandon() noexcept;
-};
 
 std::string repeated_name(const FileLayout& layout) {
   std::set<std::string> names;
@@ -266,40 +215,6 @@ void OutputFile::Impl::write_dataset_attributes(hid_t dataset, const DatasetSpec
   }
 }
 
-static bool same_description(const DatasetSpec& a, const DatasetSpec& b) {
-  return a.name == b.name && a.type == b.type && a.has_time_dim == b.has_time_dim &&
-         a.long_name == b.long_name && a.units == b.units && a.flag_values == b.flag_values &&
-         a.flag_meanings == b.flag_meanings && a.fill_value == b.fill_value &&
-         a.unwritten_value == b.unwritten_value;
-}
-
-// A dataset whose description is known only at the end (`basin`): same type and fill, its
-// attributes replaced; else (labels past int8), never written yet, it is made again under its
-// name. That moves it last in creation order, behind the datasets created before it.
-void OutputFile::Impl::redefine(std::size_t index, const DatasetSpec& spec) {
-  Dataset& old = datasets[index];
-  const std::string what = "cannot redefine dataset '" + spec.name + "'";
-  if (old.spec.type == spec.type && old.spec.has_time_dim == spec.has_time_dim &&
-      old.spec.fill_value == spec.fill_value && old.spec.unwritten_value == spec.unwritten_value) {
-    for (const char* name : {"long_name", "units", "flag_values", "flag_meanings", "_FillValue"}) {
-      const htri_t exists = checker(H5Aexists(old.handle.get(), name), what);
-      if (exists > 0) checker(H5Adelete(old.handle.get(), name), what);
-    }
-    write_dataset_attributes(old.handle.get(), spec);
-    old.spec = spec;
-    return;
-  }
-  for (std::size_t d = 0; d < grid_dims.size(); ++d)
-    checker(H5DSdetach_scale(old.handle.get(), coordinates[d].get(), static_cast<unsigned>(d)), what);
-  if (old.spec.has_time_dim)
-    checker(H5DSdetach_scale(old.handle.get(), coordinates.back().get(),
-                             static_cast<unsigned>(grid_dims.size())), what);
-  checker.require(old.handle.close(), what);
-  checker(H5Ldelete(file.get(), spec.name.c_str(), H5P_DEFAULT), what);
-  datasets.erase(datasets.begin() + static_cast<std::ptrdiff_t>(index));
-  create_dataset(spec);
-}
-
 void OutputFile::Impl::write_selected(hid_t dataset, hid_t mem_type, hid_t file_space,
                                       hid_t mem_space, const void* data,
                                       const std::string& name) const {
@@ -396,62 +311,6 @@ void OutputFile::Impl::create(const FileLayout& layout, bool datasets_first) {
   create_late(layout);
 }
 
-void OutputFile::Impl::create_late(const FileLayout& layout) {
-  int dim_id = next_dim_id;
-  for (const CoordinateSpec& extra : layout.extra_dimensions)
-    extra_coordinates.push_back(create_coordinate(extra, dim_id++));
-  for (const TableSpec& table : layout.tables) create_table(layout, table);
-}
-
-void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& table) {
-  const DatasetSpec& spec = table.dataset;
-  const std::string what = "cannot create dataset '" + spec.name + "'";
-  std::vector<hsize_t> shape;
-  std::vector<hid_t> scales;
-  for (const std::string& dim : table.dims) {
-    for (std::size_t a = 0; a < layout.axes.size(); ++a)
-      if (layout.axes[a].name == dim) shape.push_back(grid_dims[a]), scales.push_back(coordinates[a].get());
-    for (std::size_t e = 0; e < layout.extra_dimensions.size(); ++e)
-      if (layout.extra_dimensions[e].name == dim)
-        shape.push_back(layout.extra_dimensions[e].values.size()),
-            scales.push_back(extra_coordinates[e].get());
-  }
-  const hsize_t elements =
-      std::accumulate(shape.begin(), shape.end(), hsize_t{1}, std::multiplies<>());
-  if (shape.size() != table.dims.size() || elements != table.values.size())
-    fail_here(what + ": its dimensions do not match its values");
-  SpaceHandle space(checker(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), what));
-  PropertyHandle dcpl = dataset_creation_properties(shape, spec.type, spec.fill_value);
-  DatasetHandle dataset(checker(H5Dcreate2(file.get(), spec.name.c_str(), file_type(spec.type),
-                                           space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what));
-  const auto as = [&]<class T>(std::vector<T>& out) {
-    out.assign(table.values.begin(), table.values.end());
-    return static_cast<const void*>(out.data());
-  };
-  std::vector<std::int8_t> i8;
-  std::vector<std::uint8_t> u8;
-  std::vector<std::int16_t> i16;
-  std::vector<std::int32_t> i32;
-  const void* data = static_cast<const void*>(table.values.data());
-  switch (spec.type) {
-    case ElementType::int8: data = as(i8); break;
-    case ElementType::uint8: data = as(u8); break;
-    case ElementType::int16: data = as(i16); break;
-    case ElementType::int32: data = as(i32); break;
-    case ElementType::float64: break;
-  }
-  write_whole(dataset.get(), elements, memory_type(spec.type), data, spec.name, what);
-  for (std::size_t d = 0; d < scales.size(); ++d)
-    checker(H5DSattach_scale(dataset.get(), scales[d], static_cast<unsigned>(d)),
-            what + ": cannot attach its dimension scale");
-  write_descriptive_attributes(dataset.get(), spec.long_name, spec.units, checker);
-  if (!spec.flag_values.empty())  // attractor_kind; the tables that had none keep none
-    write_flag_values(dataset.get(), spec.flag_values, spec.type, checker);
-  if (!spec.flag_meanings.empty())
-    write_text_attribute(dataset.get(), "flag_meanings", spec.flag_meanings, checker);
-  tables.push_back(std::move(dataset));
-}
-
 void OutputFile::Impl::write(const Dataset& target, const std::vector<PointRange>& ranges,
                              const void* data) const {
   const std::vector<PointRange> runs = merged(ranges);
@@ -505,53 +364,27 @@ void OutputFile::Impl::write_box_by_box(const Dataset& target,
 
 OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout)
     : impl_(std::make_unique<Impl>()) {
-  impl_->final_path = final_path;
-  impl_->partial_path = final_path + ".partial";
-  // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  impl_->checker = Checker(impl_->partial_path);
-  try {
-    impl_->create(layout);
-  } catch (...) {
-    impl_->abandon();  // the destructor does not run for a constructor that throws
-    throw;
-  }
+  impl_->open(final_path, layout, false);
 }
 
 OutputFile::OutputFile(const std::string& final_path, const FileLayout& layout, DatasetsFirst)
     : impl_(std::make_unique<Impl>()) {
-  impl_->final_path = final_path;
-  impl_->partial_path = final_path + ".partial";
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  impl_->checker = Checker(impl_->partial_path);
-  try {
-    impl_->create(layout, true);
-  } catch (...) {
-    impl_->abandon();
-    throw;
-  }
+  impl_->open(final_path, layout, true);
 }
 
-void OutputFile::complete(const FileLayout& whole) {
-  Impl& s = *impl_;
-  if (!s.incomplete) fail(s.partial_path, "complete() without DatasetsFirst, or twice");
-  s.validate(whole);
-  if (whole.datasets.size() != s.datasets.size())
-    fail(s.partial_path, "complete(): the datasets differ from the file's");
-  for (const DatasetSpec& spec : whole.datasets) {
-    std::size_t index = 0;
-    while (index < s.datasets.size() && s.datasets[index].spec.name != spec.name) ++index;
-    if (index == s.datasets.size())
-      fail(s.partial_path, "complete(): no dataset named '" + spec.name + "'");
-    if (!same_description(s.datasets[index].spec, spec)) s.redefine(index, spec);
+void OutputFile::Impl::open(const std::string& final, const FileLayout& layout,
+                            bool datasets_first) {
+  final_path = final;
+  partial_path = final + ".partial";
+  // Failures become exceptions with a message; HDF5's own stderr dump would only add noise.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  checker = Checker(partial_path);
+  try {
+    create(layout, datasets_first);
+  } catch (...) {
+    abandon();  // the destructor does not run for a constructor that throws
+    throw;
   }
-  for (const auto& [name, value] : whole.text_attributes)
-    if (!s.written_text.contains(name)) write_text_attribute(s.file.get(), name, value, s.checker);
-  for (const auto& [name, value] : whole.number_attributes)
-    if (!s.written_numbers.contains(name))
-      write_number_attribute(s.file.get(), name, value, s.checker);
-  s.create_late(whole);
-  s.incomplete = false;
 }
 
 OutputFile::~OutputFile() {
