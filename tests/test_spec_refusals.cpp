@@ -106,8 +106,6 @@ const std::vector<BadSpec> kBadSpecs = {
      "method \"dop853\" does not support measures.observe_window without measures.trajectory yet"},
     {"dop853_stop", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nstop = { when = \"q > 1\" }\n", {},
      "method \"dop853\" does not support measures.stop yet"},
-    {"dop853_basin_period", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nbasin = { period = 1.0 }\n", {},
-     "method \"dop853\" does not support measures.basin.period yet"},
     {"dop853_lyapunov", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nlyapunov = true\n", {},
      "method \"dop853\" does not support measures.lyapunov yet"},
     {"dop853_step_axis", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[grid]\nh = { values = [0.01] }\n", {},

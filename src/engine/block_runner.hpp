@@ -15,7 +15,8 @@
 // An adaptive method (dop853): a chunk is `chunk` attempts of every lane, each lane at its own
 // time (LaneTile::ad); a lane is looked at when it reaches t_end, and b.n counts its attempts
 // (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax);
-// its trajectory and sync samples come from its steps' dense output (dense_samples.hpp).
+// its trajectory, sync and stroboscopic samples come from its steps' dense output
+// (dense_samples.hpp).
 #pragma once
 
 #include <cmath>
@@ -68,7 +69,7 @@ class BlockRunner {
       const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
-      main_.ad.sampling = fin_.ad.sampling = plan.samples > 0 || plan.map.sync_r >= 0;
+      main_.ad.sampling = fin_.ad.sampling = dense_samples_.any();
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -210,12 +211,15 @@ class BlockRunner {
   }
 
   // Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
+  // A lane its stroboscopic map settled is looked at after this chunk (the early stop).
   template <class Dense>
   void dense_step(Tile& t, int i, const Dense& dense) {
     Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
+    const bool settled = b.basin.settled;
     dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sample_at(slot(t, i)),
-                           sync_at());
+                           sync_at(), strobe_at(slot(t, i)));
     t.ad.next_sample[i] = dense_samples_.next(b);
+    if (b.basin.settled && !settled && &t == &main_) countdown_[i] = 0;
   }
   // Trajectory sample k of the lane in `lane_slot` (an adaptive lane's: n = k·every nominal
   // steps, the time the observables see).
@@ -230,6 +234,12 @@ class BlockRunner {
   auto sync_at() {
     return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
       sample_sync(b, n, x.q, x.p, c);
+    };
+  }
+  // The stroboscopic map's sample k of the lane in `lane_slot`, to the mappers that sample it.
+  auto strobe_at(int lane_slot) {
+    return [this, lane_slot](Book& b, std::int64_t k, const LaneState<D>& x, const Params& c) {
+      mappers_.look_stroboscopic(lane_slot, k, x, c, b.basin);
     };
   }
 
@@ -314,7 +324,8 @@ class BlockRunner {
       bool failed = lane_failed<S>(x, status);
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
-        if (!failed && at_end) dense_samples_.at_end(b, x, c, sample_at(i), sync_at());
+        if (!failed && at_end)
+          dense_samples_.at_end(b, x, c, sample_at(i), sync_at(), strobe_at(i));
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -371,6 +382,9 @@ class BlockRunner {
   // Looks at the healthy lane in `lane_slot` at step b.n (a multiple of the chunk, or t_end).
   void observe(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
     if (plan_.map.basin >= 0 && !b.basin.settled) mappers_.look(lane_slot, b.n, x, c, b.basin);
+    // An adaptive lane's stroboscopic map: sample 0 here, the others from its steps.
+    if constexpr (kAdaptive)
+      if (b.n == 0) dense_samples_.at_start(b, x, c, strobe_at(lane_slot));
     // An adaptive lane's samples after the first come from its steps' dense output.
     if (plan_.samples > 0 && (!kAdaptive || b.n == 0)) {
       auto every = plan_.spec.measures.trajectory->every;

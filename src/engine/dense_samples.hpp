@@ -1,6 +1,6 @@
 // An adaptive method's samples (dop853): its lanes step to times of their own, so a trajectory
-// sample (every `every`·h in time) or a sync sample (at a fixed-step run's look times) falls
-// inside a step and is taken from the step's continuous extension (numerics/dop853_dense.hpp)
+// sample (every `every`·h in time), a sync sample (at a fixed-step run's look times) or a sample
+// of the stroboscopic map (at t_start + k·period, until the lane settles) falls inside a step and is taken from the step's continuous extension (numerics/dop853_dense.hpp)
 // when the lane's accepted step reaches it (engine/lane_tile.hpp's advance_adaptive calls the
 // block runner, which calls in_step). A lane's samples come from its own steps alone: the same
 // bits on any rank, thread or slot.
@@ -24,18 +24,26 @@ class DenseSamples {
   using Params = ParamsOf<S, double>;
 
  public:
-  explicit DenseSamples(const RunPlan& plan, LaneClock clock) : plan_(plan), clock_(clock) {}
+  explicit DenseSamples(const RunPlan& plan, LaneClock clock)
+      : plan_(plan), clock_(clock), strobe_(plan.attractors.dense_strobe && plan.map.basin >= 0) {
+    if (strobe_) strobe_clock_ = {plan.spec.t_start, *plan.spec.measures.basin->period};
+  }
 
-  // The time of the lane's next sample of either kind, +∞ when it has them all.
-  double next(const Book& b) const { return std::min(next_sample_time(b), next_sync_time(b)); }
+  // Whether the run has samples of any kind (else its lanes never build a dense output).
+  bool any() const { return plan_.samples > 0 || plan_.map.sync_r >= 0 || strobe_; }
+
+  // The time of the lane's next sample of any kind, +∞ when it has them all.
+  double next(const Book& b) const {
+    return std::min({next_sample_time(b), next_sync_time(b), next_strobe_time(b)});
+  }
 
   // The lane's accepted step ended at t_lane in state `end`: every sample up to t_lane, in time
   // order, from the step's continuous extension (the step's end from the state itself).
   // traj(b, k, x, c) records trajectory sample k; sync(b, n, x, c) takes sync's sample at step
-  // n of the nominal clock.
-  template <class Dense, class Traj, class Sync>
+  // n of the nominal clock; strobe(b, k, x, c) the stroboscopic map's sample k.
+  template <class Dense, class Traj, class Sync, class Strobe>
   void in_step(Book& b, const LaneState<D>& end, double t_lane, const Params& c,
-               const Dense& dense, Traj&& traj, Sync&& sync) {
+               const Dense& dense, Traj&& traj, Sync&& sync, Strobe&& strobe) {
     for (double te = next(b); te <= t_lane; te = next(b)) {
       LaneState<D> x = end;
       if (te != t_lane) {
@@ -44,15 +52,26 @@ class DenseSamples {
         x.z = y.z, x.mu = y.mu;
       }
       x.t = te;
-      sample_at(b, x, c, te, traj, sync);
+      sample_at(b, x, c, te, traj, sync, strobe);
     }
   }
 
   // A lane at t_end: the samples whose time rounds a hair beyond it (RunPlan::samples, the
   // sync window's end rounded to a step) take its final state.
-  template <class Traj, class Sync>
-  void at_end(Book& b, const LaneState<D>& x, const Params& c, Traj&& traj, Sync&& sync) {
-    for (double te = next(b); te < INFINITY; te = next(b)) sample_at(b, x, c, te, traj, sync);
+  template <class Traj, class Sync, class Strobe>
+  void at_end(Book& b, const LaneState<D>& x, const Params& c, Traj&& traj, Sync&& sync,
+              Strobe&& strobe) {
+    for (double te = next(b); te < INFINITY; te = next(b))
+      sample_at(b, x, c, te, traj, sync, strobe);
+  }
+
+  // A lane at t_start: the stroboscopic map's sample 0 (the other kinds take theirs from the
+  // runner's look at load).
+  template <class Strobe>
+  void at_start(Book& b, const LaneState<D>& x, const Params& c, Strobe&& strobe) {
+    if (next_strobe_time(b) != strobe_clock_.at(0)) return;
+    strobe(b, b.strobe_k, x, c);
+    ++b.strobe_k;
   }
 
  private:
@@ -67,14 +86,20 @@ class DenseSamples {
     return plan_.map.sync_r >= 0 && b.sync_n <= plan_.sync_last_step ? clock_.at(b.sync_n)
                                                                       : INFINITY;
   }
+  // Samples 0 … strobe_last of the stroboscopic map, until the lane settles.
+  double next_strobe_time(const Book& b) const {
+    return strobe_ && !b.basin.settled && b.strobe_k <= plan_.attractors.strobe_last
+               ? strobe_clock_.at(b.strobe_k)
+               : INFINITY;
+  }
 
   // The samples due at time te, from the lane's state x there. A state that has failed
   // (beyond the scene's bound, not finite) ends the lane's sampling: its trajectory is NaN from
   // there (a sample not finite: the lane's status says so unless it fails anyway) and its sync
   // has no result, as a fixed-step lane's after it fails.
-  template <class Traj, class Sync>
+  template <class Traj, class Sync, class Strobe>
   void sample_at(Book& b, const LaneState<D>& x, const Params& c, double te, Traj& traj,
-                 Sync& sync) {
+                 Sync& sync, Strobe& strobe) {
     if (LaneStatus status = LaneStatus::ok; lane_failed<S>(x, status)) {
       LaneState<D> none = x;
       for (int d = 0; d < D; ++d) none.q[d] = none.p[d] = NAN;
@@ -82,6 +107,7 @@ class DenseSamples {
         traj(b, b.samples_recorded, none, c);
       b.sync = SyncTracker{};
       b.sync_n = plan_.sync_last_step + 1;
+      b.strobe_k = plan_.attractors.strobe_last + 1;  // its map ends undecided, as it fails
       return;
     }
     if (next_sample_time(b) == te) {
@@ -92,10 +118,16 @@ class DenseSamples {
       sync(b, b.sync_n, x, c);
       b.sync_n += plan_.chunk;
     }
+    if (next_strobe_time(b) == te) {
+      strobe(b, b.strobe_k, x, c);
+      ++b.strobe_k;
+    }
   }
 
   const RunPlan& plan_;
   LaneClock clock_;
+  bool strobe_;
+  LaneClock strobe_clock_{};  // sample k of the stroboscopic map at t_start + k·period
 };
 
 }  // namespace cs

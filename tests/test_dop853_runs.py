@@ -1,0 +1,126 @@
+#!/usr/bin/python3
+"""dop853 (adaptive, per-lane steps) with the measures that sample between its steps (issue 27,
+item 4), end to end through the CLI:
+
+    test_dop853_runs.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
+
+  * the stroboscopic map (measures.basin.period), sampled at t_start + k*T from the steps'
+    dense output, with an h that does not divide T: a forced linear oscillator settles on its
+    closed-form periodic point (A, B*Omega) within rtol, over four decades of rtol, the error
+    falling with it;
+  * the forced Duffing's basin map (sweeps/basins_forced_duffing.toml, 64 x 64) labels every
+    cell as rk4 at h = T/1000 does, but for cells on the reference's basin boundary; its
+    attractors' points agree with rk4's within a multiple of rtol;
+  * the same map, the same bits on 1x1, 1x2 and 2x1 ranks x threads.
+
+One K serves every forced run (a linear or a double-well restoring force by its parameters),
+so that the test builds two kernels (dop853 and rk4), not four.
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
+binary, mpiexec, compare, work = sys.argv[1:5]
+runs = Runs(binary, mpiexec, work, details=True, compare=compare)
+check, run = runs.check, runs.run
+
+# q'' + delta q' + a q + b q^3 = F cos(Omega t).
+FORCED = """
+[scene]
+K = "p^2/2 + a*q^2/2 + b*q^4/4 - F*q*cos(Omega*t) - delta*z"
+a = {a!r}
+b = {b!r}
+delta = {delta!r}
+F = {F!r}
+Omega = {Omega!r}
+[integrator]
+method = "{method}"
+{step}
+t_end = {t_end!r}
+[grid]
+q_0 = {{ from = -2.0, to = 2.0, n = {n} }}
+p_0 = {{ from = -2.0, to = 2.0, n = {n} }}
+[measures]
+basin = {{ period = {period!r}{tolerance} }}
+"""
+
+
+def forced(method, step, n, t_end, period, tolerance="", **scene):
+    return FORCED.format(method=method, step=step, n=n, t_end=t_end, period=period,
+                         tolerance=tolerance, **scene)
+
+
+# ---- the stroboscopic map against a closed form -------------------------------------------------
+# The forced linear oscillator's one periodic orbit passes through (A, B*Omega) at t = k*T. h =
+# 0.1 (the first step) does not divide T = pi. A lane settles when its samples stay within the
+# basin tolerance (10 rtol here: the samples jitter at the level of the steps' errors, which rtol
+# bounds) and its point is one of its samples: within rtol of the closed form when the global
+# error is proportional to rtol (measured: 0.02 to 0.23 rtol from rtol 1e-6 to 1e-10).
+W0, DELTA, F, OMEGA = 1.0, 0.3, 0.5, 2.0
+den = (W0**2 - OMEGA**2) ** 2 + DELTA**2 * OMEGA**2
+A, B = F * (W0**2 - OMEGA**2) / den, F * DELTA * OMEGA / den
+LINEAR = dict(a=W0**2, b=0.0, delta=DELTA, F=F, Omega=OMEGA)
+T_LIN = 2 * math.pi / OMEGA
+errors = {}
+for rtol in (1e-6, 1e-8, 1e-10):
+    spec = forced("dop853", f"rtol = {rtol!r}\natol = {rtol!r}\nh = 0.1", 12, 400.0, T_LIN,
+                  f", tolerance = {10 * rtol!r}", **LINEAR)
+    f = run(spec, f"strobe_linear_{rtol:.0e}")
+    if not f:
+        continue
+    q, p = f["attractor_q"][...], f["attractor_p"][...]
+    settled = (f["basin"][...] != 0).all() and len(q) >= 1
+    error = max(np.abs(q - A).max(), np.abs(p - B * OMEGA).max()) if len(q) else math.inf
+    errors[rtol] = error
+    check(f"forced linear oscillator, rtol {rtol:g}: every lane settles on (A, B*Omega) within "
+          f"rtol", settled and error <= rtol, f"{len(q)} point(s), error {error:.3g} = "
+          f"{error / rtol:.3g} rtol")
+if len(errors) == 3:
+    check("forced linear oscillator: the stroboscopic point's error falls with rtol (four decades "
+          "of rtol, at least two of error)", errors[1e-6] / errors[1e-10] > 100,
+          f"{errors[1e-6]:.3g} -> {errors[1e-10]:.3g}")
+
+# ---- the forced Duffing's basin map against rk4 -------------------------------------------------
+DUFFING = dict(a=-1.0, b=1.0, delta=0.25, F=0.1, Omega=1.2566370614359172)
+T = 5.0
+dop = run(forced("dop853", "rtol = 1e-8", 64, 400.0, T, **DUFFING), "duffing_dop853")
+ref = run(forced("rk4", f"h = {T / 1000!r}", 64, 400.0, T, **DUFFING), "duffing_rk4")
+if dop and ref:
+    a, b = dop["basin"][...], ref["basin"][...]
+    # A cell on the reference's boundary: one of its four neighbours has another label.
+    pad = np.pad(b, 1, mode="edge")
+    boundary = ((pad[1:-1, :-2] != b) | (pad[1:-1, 2:] != b) | (pad[:-2, 1:-1] != b)
+                | (pad[2:, 1:-1] != b))
+    wrong = (a != b)
+    check("forced Duffing 64 x 64: every cell decided, two attractors as rk4 finds them",
+          (a != 0).all() and len(dop["attractor_q"]) == 2 == len(ref["attractor_q"]),
+          f"{len(dop['attractor_q'])} and {len(ref['attractor_q'])} attractors")
+    check("forced Duffing: dop853's labels are rk4's (h = T/1000) but on its boundary cells",
+          not (wrong & ~boundary).any() and wrong.sum() <= 0.02 * boundary.sum(),
+          f"{wrong.sum()} cells differ, {(wrong & ~boundary).sum()} off the boundary "
+          f"({boundary.sum()} boundary cells)")
+    # Points: samples within the tolerance (1e-6, the default) of the cycle; rk4's error at h =
+    # 0.005 is ~1e-10 and dop853's ~rtol.
+    da = np.stack([dop["attractor_q"][...], dop["attractor_p"][...]], axis=1)
+    ra = np.stack([ref["attractor_q"][...], ref["attractor_p"][...]], axis=1)
+    gap = np.abs(da - ra).max() if da.shape == ra.shape else math.inf
+    check("forced Duffing: the attractors' points agree with rk4's within twice the basin "
+          "tolerance", gap <= 2e-6, f"{gap:.3g}")
+
+    # ---- the same bits on any cut into ranks and threads ---------------------------------------
+    spec = forced("dop853", "rtol = 1e-8", 40, 200.0, T, **DUFFING)
+    outputs = []
+    for ranks, threads in ((1, 1), (1, 2), (2, 1)):
+        name = f"duffing_dop853_np{ranks}_t{threads}"
+        out, _ = runs.launch(spec, name, ranks=ranks, threads=threads)
+        if out:
+            outputs.append(out)
+    runs.same_bits("forced Duffing with dop853: 1x1, 1x2, 2x1 give the same bits", *outputs,
+                   count=3)
+
+runs.finish()
