@@ -11,7 +11,11 @@ item 4), end to end through the CLI:
   * the forced Duffing's basin map (sweeps/basins_forced_duffing.toml, 64 x 64) labels every
     cell as rk4 at h = T/1000 does, but for cells on the reference's basin boundary; its
     attractors' points agree with rk4's within a multiple of rtol;
-  * the same map, the same bits on 1x1, 1x2 and 2x1 ranks x threads.
+  * the same map, the same bits on 1x1, 1x2 and 2x1 ranks x threads;
+  * measures.stop on scene A's energy threshold: the exact energy at each lane's stop_time is
+    the threshold within 3 rtol (the time located on the step's continuous extension), the final
+    state the exact state there, the trajectory NaN after the stop, the error falling with
+    rtol, and the same bits on 1x1, 1x2, 2x1.
 
 One K serves every forced run (a linear or a double-well restoring force by its parameters),
 so that the test builds two kernels (dop853 and rk4), not four.
@@ -122,5 +126,93 @@ if dop and ref:
             outputs.append(out)
     runs.same_bits("forced Duffing with dop853: 1x1, 1x2, 2x1 give the same bits", *outputs,
                    count=3)
+
+# ---- the stop against a closed form -------------------------------------------------------------
+# Scene A (q'' + gamma q' + q = 0): E = (p^2 + q^2)/2 falls monotonically (E' = -gamma p^2), so
+# "E < E_th" first holds at one time t*, found here on the exact solution by bisection. A dop853
+# lane checks the condition after each accepted step and locates the time it first held on the
+# step's continuous extension: its stop_time, where the exact E is E_th to the error of the
+# state, proportional to rtol (not up to one step late, as a fixed-step method's stop is).
+GAMMA, E_TH = 0.1, 0.1
+STOP = """
+[scene]
+name = "damped_oscillator"
+omega = 1.0
+gamma = {gamma!r}
+[integrator]
+method = "dop853"
+rtol = {rtol!r}
+atol = {rtol!r}
+h = 0.01
+t_end = 60.0
+[grid]
+q_0 = {{ from = 0.6, to = 1.4, n = 9 }}
+p_0 = {{ values = [-0.3, 0.0, 0.3] }}
+[measures]
+final_state = true
+trajectory = {{ every = 100 }}
+stop = {{ when = "0.5*p^2 + 0.5*q^2 < {e_th!r}" }}
+"""
+OMEGA_A = math.sqrt(1.0 - GAMMA**2 / 4)
+
+
+def exact_a(t, q0, p0):
+    """Scene A's q, p at time t from (q0, p0), omega = 1."""
+    e, c, s = np.exp(-GAMMA * t / 2), np.cos(OMEGA_A * t), np.sin(OMEGA_A * t)
+    return (e * (q0 * c + (p0 + GAMMA * q0 / 2) / OMEGA_A * s),
+            e * (p0 * c - (q0 + GAMMA * p0 / 2) / OMEGA_A * s))
+
+
+def energy(t, q0, p0):
+    q, p = exact_a(t, q0, p0)
+    return 0.5 * p * p + 0.5 * q * q
+
+
+q0 = np.repeat(np.linspace(0.6, 1.4, 9), 3)
+p0 = np.tile([-0.3, 0.0, 0.3], 9)
+lo, hi = np.zeros_like(q0), np.full_like(q0, 60.0)
+for _ in range(80):  # E is monotone: the crossing by bisection, to rounding
+    mid = 0.5 * (lo + hi)
+    below = energy(mid, q0, p0) < E_TH
+    hi, lo = np.where(below, mid, hi), np.where(below, lo, mid)
+t_star = hi
+stop_errors = {}
+for rtol in (1e-6, 1e-9):
+    f = run(STOP.format(gamma=GAMMA, rtol=rtol, e_th=E_TH), f"stop_energy_{rtol:.0e}")
+    if not f:
+        continue
+    t_stop = f["stop_time"][...].ravel()
+    fq, fp = f["final_q"][...].ravel(), f["final_p"][...].ravel()
+    eq, ep = exact_a(t_stop, q0, p0)
+    e_gap = np.abs(energy(t_stop, q0, p0) - E_TH).max()
+    state_gap = max(np.abs(fq - eq).max(), np.abs(fp - ep).max())
+    stop_errors[rtol] = e_gap
+    # The state's error is ~1.5 rtol here (measured), so E's ~|y| times that: bounds of 3 and
+    # 10 rtol leave margins of 4 and 7.
+    check(f"stop, rtol {rtol:g}: every lane stops, the exact E at its stop_time is E_th within "
+          f"3 rtol and its final state the exact state there within 10 rtol",
+          np.isfinite(t_stop).all() and e_gap <= 3 * rtol and state_gap <= 10 * rtol,
+          f"|E - E_th| {e_gap:.3g} = {e_gap / rtol:.3g} rtol, state {state_gap:.3g}, "
+          f"|t_stop - t*| up to {np.abs(t_stop - t_star).max():.3g}")
+    check(f"stop, rtol {rtol:g}: the final state meets the condition (the first time it held)",
+          (0.5 * fp**2 + 0.5 * fq**2 < E_TH).all())
+    tq = f["traj_q"][...].reshape(len(q0), -1)
+    times = np.arange(tq.shape[1]) * 1.0
+    before = times[None, :] <= t_stop[:, None]
+    check(f"stop, rtol {rtol:g}: trajectory samples up to the stop, NaN after it",
+          np.isfinite(tq[before]).all() and np.isnan(tq[~before]).all())
+if len(stop_errors) == 2:
+    check("stop: its error falls with rtol (three decades of rtol, at least two of error)",
+          stop_errors[1e-6] / stop_errors[1e-9] > 100,
+          f"{stop_errors[1e-6]:.3g} -> {stop_errors[1e-9]:.3g}")
+
+outputs = []
+for ranks, threads in ((1, 1), (1, 2), (2, 1)):
+    name = f"stop_np{ranks}_t{threads}"
+    out, _ = runs.launch(STOP.format(gamma=GAMMA, rtol=1e-8, e_th=E_TH), name, ranks=ranks,
+                         threads=threads)
+    if out:
+        outputs.append(out)
+runs.same_bits("stop with dop853: 1x1, 1x2, 2x1 give the same bits", *outputs, count=3)
 
 runs.finish()

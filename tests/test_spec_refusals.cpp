@@ -104,8 +104,6 @@ const std::vector<BadSpec> kBadSpecs = {
      "integrator.atol is a tolerance of an adaptive method"},
     {"dop853_window_every_step", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nobserve = { E = \"q\" }\nobserve_window = { from = 1.0, to = 2.0 }\n", {},
      "method \"dop853\" does not support measures.observe_window without measures.trajectory yet"},
-    {"dop853_stop", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nstop = { when = \"q > 1\" }\n", {},
-     "method \"dop853\" does not support measures.stop yet"},
     {"dop853_lyapunov", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nlyapunov = true\n", {},
      "method \"dop853\" does not support measures.lyapunov yet"},
     {"dop853_step_axis", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[grid]\nh = { values = [0.01] }\n", {},

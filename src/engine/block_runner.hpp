@@ -191,11 +191,17 @@ class BlockRunner {
                                             if constexpr (kFormulas)
                                               if (hooks) formulas_.after_step(t, which, s);
                                           });
-    } else if constexpr (kAdaptive) {  // its formulas read samples only (no stop, no
-                                        // every-step window: spec_integrator.cpp)
-      advance_adaptive<S, Method, carry, Uniform>(
-          t, steps, uniform_params_, [](int) {},
-          [&](int i, const auto& dense) { dense_step(t, i, dense); });
+    } else if constexpr (kAdaptive) {  // its formulas read samples and the stop's condition
+                                        // (no every-step window: spec_integrator.cpp)
+      auto on_dense = [&](int i, const auto& dense) { dense_step(t, i, dense); };
+      if constexpr (Formulas::stop) {
+        auto stops = [&](int i) { return formulas_.stops_now(t, i); };
+        advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
+                                                    on_dense, stops);
+      } else {
+        advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
+                                                    on_dense);
+      }
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
         advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
@@ -212,14 +218,34 @@ class BlockRunner {
 
   // Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
   // A lane its stroboscopic map settled is looked at after this chunk (the early stop).
+  // A lane whose stop's condition holds at the step's end stops where it first held: its
+  // samples up to there, then it is held (no more attempts: its time set to t_end) until the
+  // runner looks at it (stop_lane).
   template <class Dense>
   void dense_step(Tile& t, int i, const Dense& dense) {
     Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
     const bool settled = b.basin.settled;
-    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sample_at(slot(t, i)),
-                           sync_at(), strobe_at(slot(t, i)));
+    LaneState<D> end = t.lane(i);
+    end.t = t.ad.t[i];
+    const Params c = t.params(i);
+    bool stopped = false;
+    if constexpr (Formulas::stop) {
+      if (formulas_.stops_now(t, i)) {
+        LaneState<D> x;
+        end.t = formulas_.locate_stop(dense, end.t, end, c, x);
+        end = x;
+        stopped = true;
+      }
+    }
+    dense_samples_.in_step(b, end, end.t, c, dense, sample_at(slot(t, i)), sync_at(),
+                           strobe_at(slot(t, i)));
     t.ad.next_sample[i] = dense_samples_.next(b);
     if (b.basin.settled && !settled && &t == &main_) countdown_[i] = 0;
+    if (stopped) {
+      formulas_.hold_stop(slot(t, i), end);
+      t.ad.t[i] = plan_.spec.t_end;
+      t.ad.next_sample[i] = INFINITY;
+    }
   }
   // Trajectory sample k of the lane in `lane_slot` (an adaptive lane's: n = k·every nominal
   // steps, the time the observables see).
@@ -453,7 +479,12 @@ class BlockRunner {
     const Params c = t.params(i);
     const Coef k = t.coef(i);
     LaneState<D> x;
-    if constexpr (carry.tangent) {
+    if constexpr (kAdaptive) {  // held where the condition first held (dense_step)
+      x = formulas_.held_stop(lane_slot);
+      LaneStatus status = LaneStatus::ok;
+      if (lane_failed<S>(x, status)) return finish(lane_slot, b, x, c, status);
+      return finish_stopped(lane_slot, b, x, c);
+    } else if constexpr (carry.tangent) {
       // The state and its tangent stepped again together (lyapunov_lanes.hpp).
       b.n = formulas_.rerun(lane_slot, c, steps, x,
                             [&](std::int64_t base) { lyapunov_.rerun_begin(lane_slot, base); },
@@ -477,7 +508,10 @@ class BlockRunner {
   // its exit as the basin's outcome — unless it settled first (with basin.early_stop = false it
   // ran on after settling): a lane's outcome is the first decided.
   void finish_stopped(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
-    if (plan_.samples > 0) {
+    // An adaptive lane took its samples up to the stop from its step (dense_step); its time is
+    // its own.
+    const double time = kAdaptive ? x.t : clock_.at(b.n);
+    if (plan_.samples > 0 && !kAdaptive) {
       const auto every = plan_.spec.measures.trajectory->every;
       if (b.n % every == 0 && b.n / every >= b.samples_recorded) {
         writer_.record_sample(b, b.n / every, x, c);
@@ -485,13 +519,13 @@ class BlockRunner {
         b.samples_recorded = b.n / every + 1;
       }
     }
-    const int exit = formulas_.exit_of(x, clock_.at(b.n), c);
+    const int exit = formulas_.exit_of(x, time, c);
     if (plan_.map.basin >= 0 && !b.basin.settled) {
       if (exit > 0) {
         b.basin.settled = true;
         b.basin.period = kExitPeriod;
         b.basin.point[0] = exit;
-        b.basin.settle_time = clock_.at(b.n);
+        b.basin.settle_time = time;
       }
     }
     finish(lane_slot, b, x, c, LaneStatus::ok, true, exit);

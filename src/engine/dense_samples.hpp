@@ -1,7 +1,8 @@
 // An adaptive method's samples (dop853): its lanes step to times of their own, so a trajectory
 // sample (every `every`·h in time), a sync sample (at a fixed-step run's look times) or a sample
-// of the stroboscopic map (at t_start + k·period, until the lane settles) falls inside a step and is taken from the step's continuous extension (numerics/dop853_dense.hpp)
-// when the lane's accepted step reaches it (engine/lane_tile.hpp's advance_adaptive calls the
+// of the stroboscopic map (at t_start + k·period, until the lane settles) falls inside a step
+// and is taken from the step's continuous extension (numerics/dop853_dense.hpp) when the
+// lane's accepted step reaches it (engine/lane_tile.hpp's advance_adaptive calls the
 // block runner, which calls in_step). A lane's samples come from its own steps alone: the same
 // bits on any rank, thread or slot.
 #pragma once

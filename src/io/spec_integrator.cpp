@@ -73,9 +73,9 @@ void SpecReader::read_tolerances(const toml::table& t) {
 }
 
 // What an adaptive method does not do yet, refused by name. Its lanes step to times of their
-// own; the samples of a trajectory, its observables, sync and the stroboscopic map between two
-// steps come from the step's dense output (numerics/dop853_dense.hpp), which stop and an
-// observe_window sampled every step do not read yet.
+// own; the samples of a trajectory, its observables, sync, the stroboscopic map and the stop's
+// time between two steps come from the step's dense output (numerics/dop853_dense.hpp), which
+// an observe_window sampled every step does not read yet.
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
   const Measures& m = spec_.measures;
@@ -84,14 +84,10 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  const char* between = "its lanes step to times of their own, and this measure does not read "
-                        "the steps' dense output yet (trajectory, observe, sync and "
-                        "basin.period do); use a fixed-step method";
   if (m.observe && m.observe->window && !m.trajectory)
     refuse("measures.observe_window without measures.trajectory",
            "the window's samples are every step, and its lanes have steps of their own; add a "
            "trajectory, whose samples the window then reads");
-  if (m.stop) refuse("measures.stop", between);
   if (m.lyapunov)
     refuse("measures.lyapunov", "the tangent of an adaptive step is not written");
   for (const GridAxis& axis : spec_.axes)
