@@ -15,7 +15,9 @@ item 4), end to end through the CLI:
   * measures.stop on scene A's energy threshold: the exact energy at each lane's stop_time is
     the threshold within 3 rtol (the time located on the step's continuous extension), the final
     state the exact state there, the trajectory NaN after the stop, the error falling with
-    rtol, and the same bits on 1x1, 1x2, 2x1.
+    rtol, and the same bits on 1x1, 1x2, 2x1;
+  * observe_window without a trajectory: every nominal step in the window a sample, the same
+    bits as a trajectory's every-step samples give, the exact statistics within 3 rtol.
 
 One K serves every forced run (a linear or a double-well restoring force by its parameters),
 so that the test builds two kernels (dop853 and rk4), not four.
@@ -214,5 +216,43 @@ for ranks, threads in ((1, 1), (1, 2), (2, 1)):
     if out:
         outputs.append(out)
 runs.same_bits("stop with dop853: 1x1, 1x2, 2x1 give the same bits", *outputs, count=3)
+
+# ---- observe_window without a trajectory ----------------------------------------------------------
+# Its samples are every nominal step t_start + n*h in the window, each from the lane's step's
+# continuous extension: the same times, values and order of summation as a trajectory with
+# every = 1 whose samples the window then reads, so the same bits; and the mean of E over them
+# that of the exact E within a multiple of rtol.
+WINDOW = """
+[scene]
+name = "damped_oscillator"
+omega = 1.0
+gamma = {gamma!r}
+[integrator]
+method = "dop853"
+rtol = 1e-9
+atol = 1e-9
+h = 0.01
+t_end = 20.0
+[grid]
+q_0 = {{ from = 0.6, to = 1.4, n = 9 }}
+p_0 = {{ values = [-0.3, 0.0, 0.3] }}
+[measures]
+observe = {{ E = "0.5*p^2 + 0.5*q^2" }}
+observe_window = {{ from = 10.0, to = 20.0 }}
+{trajectory}
+"""
+alone = run(WINDOW.format(gamma=GAMMA, trajectory=""), "window_alone")
+read = run(WINDOW.format(gamma=GAMMA, trajectory="trajectory = { every = 1 }"), "window_read")
+if alone and read:
+    same = all(np.array_equal(alone[k][...].view(np.uint64), read[k][...].view(np.uint64))
+               for k in ("mean_E", "min_E", "max_E", "final_E"))
+    check("observe_window without trajectory: mean, min, max of E the same bits as a trajectory's "
+          "every-step samples give", same)
+    times = 0.01 * np.arange(1000, 2001)
+    exact = energy(times[None, :], q0[:, None], p0[:, None])
+    gaps = [np.abs(alone[k][...].ravel() - f(exact, axis=1)).max()
+            for k, f in (("mean_E", np.mean), ("min_E", np.min), ("max_E", np.max))]
+    check("observe_window without trajectory: mean, min, max of E those of the exact E within "
+          "3 rtol", max(gaps) <= 3e-9, f"{[f'{g:.2g}' for g in gaps]}")
 
 runs.finish()

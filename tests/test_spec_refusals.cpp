@@ -102,8 +102,6 @@ const std::vector<BadSpec> kBadSpecs = {
      "the fixed h"},
     {"atol_for_default_method", kDw + "[integrator]\natol = 1e-8\n", {},
      "integrator.atol is a tolerance of an adaptive method"},
-    {"dop853_window_every_step", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nobserve = { E = \"q\" }\nobserve_window = { from = 1.0, to = 2.0 }\n", {},
-     "method \"dop853\" does not support measures.observe_window without measures.trajectory yet"},
     {"dop853_lyapunov", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nlyapunov = true\n", {},
      "method \"dop853\" does not support measures.lyapunov yet"},
     {"dop853_step_axis", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[grid]\nh = { values = [0.01] }\n", {},

@@ -238,7 +238,7 @@ class BlockRunner {
       }
     }
     dense_samples_.in_step(b, end, end.t, c, dense, sample_at(slot(t, i)), sync_at(),
-                           strobe_at(slot(t, i)));
+                           strobe_at(slot(t, i)), window_at(slot(t, i)));
     t.ad.next_sample[i] = dense_samples_.next(b);
     if (b.basin.settled && !settled && &t == &main_) countdown_[i] = 0;
     if (stopped) {
@@ -260,6 +260,12 @@ class BlockRunner {
   auto sync_at() {
     return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
       sample_sync(b, n, x.q, x.p, c);
+    };
+  }
+  // observe_window's sample at nominal step n of the lane in `lane_slot` (no trajectory).
+  auto window_at(int lane_slot) {
+    return [this, lane_slot](Book&, std::int64_t n, const LaneState<D>& x, const Params& c) {
+      formulas_.window_sample(lane_slot, n, x, c);
     };
   }
   // The stroboscopic map's sample k of the lane in `lane_slot`, to the mappers that sample it.
@@ -351,7 +357,7 @@ class BlockRunner {
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
         if (!failed && at_end)
-          dense_samples_.at_end(b, x, c, sample_at(i), sync_at(), strobe_at(i));
+          dense_samples_.at_end(b, x, c, sample_at(i), sync_at(), strobe_at(i), window_at(i));
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {

@@ -73,9 +73,9 @@ void SpecReader::read_tolerances(const toml::table& t) {
 }
 
 // What an adaptive method does not do yet, refused by name. Its lanes step to times of their
-// own; the samples of a trajectory, its observables, sync, the stroboscopic map and the stop's
-// time between two steps come from the step's dense output (numerics/dop853_dense.hpp), which
-// an observe_window sampled every step does not read yet.
+// own; the samples of a trajectory, its observables, sync, the stroboscopic map, an
+// observe_window's every nominal step and the stop's time between two steps come from the
+// step's dense output (numerics/dop853_dense.hpp).
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
   const Measures& m = spec_.measures;
@@ -84,10 +84,6 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  if (m.observe && m.observe->window && !m.trajectory)
-    refuse("measures.observe_window without measures.trajectory",
-           "the window's samples are every step, and its lanes have steps of their own; add a "
-           "trajectory, whose samples the window then reads");
   if (m.lyapunov)
     refuse("measures.lyapunov", "the tangent of an adaptive step is not written");
   for (const GridAxis& axis : spec_.axes)

@@ -18,7 +18,8 @@
 // is held there (hold_stop) until the runner looks at it.
 //
 // The window statistics: with a trajectory the samples are the trajectory's (looks); without
-// one every step is a sample, accumulated in the same vectorised pass (after_step). A lane's sums
+// one every step is a sample, accumulated in the same vectorised pass (after_step), and an
+// adaptive lane's every nominal step t_start + n·h in the window (window_sample). A lane's sums
 // run in the order of its steps: the same bits on any rank or thread.
 #pragma once
 
@@ -296,6 +297,12 @@ class FormulaTracker {
     held_[slot] = x;
   }
   const LaneState<D>& held_stop(int slot) const { return held_[slot]; }
+
+  // An adaptive lane's sample of observe_window without trajectory, at nominal step n (from its
+  // step's continuous extension: engine/dense_samples.hpp).
+  void window_sample(int slot, std::int64_t n, const LaneState<D>& x, const Params& c) {
+    accumulate(slot, view(x, clock_.at(n)), c);
+  }
 
   // The exit channel of a lane stopped in state x (1, 2, …), 0 when the formula gives none.
   static int exit_of(const LaneState<D>& x, double time, const Params& c) {
