@@ -136,7 +136,8 @@ if dop and ref:
 # step's continuous extension: its stop_time, where the exact E is E_th to the error of the
 # state, proportional to rtol (not up to one step late, as a fixed-step method's stop is).
 GAMMA, E_TH = 0.1, 0.1
-STOP = """
+# Scene A's runs: 27 lanes, q_0 x p_0; MEASURES the [measures] section.
+SCENE_A = """
 [scene]
 name = "damped_oscillator"
 omega = 1.0
@@ -146,12 +147,13 @@ method = "dop853"
 rtol = {rtol!r}
 atol = {rtol!r}
 h = 0.01
-t_end = 60.0
+t_end = {t_end!r}
 [grid]
 q_0 = {{ from = 0.6, to = 1.4, n = 9 }}
 p_0 = {{ values = [-0.3, 0.0, 0.3] }}
 [measures]
-final_state = true
+"""
+STOP = SCENE_A.replace("{t_end!r}", "60.0") + """final_state = true
 trajectory = {{ every = 100 }}
 stop = {{ when = "0.5*p^2 + 0.5*q^2 < {e_th!r}" }}
 """
@@ -222,22 +224,7 @@ runs.same_bits("stop with dop853: 1x1, 1x2, 2x1 give the same bits", *outputs, c
 # continuous extension: the same times, values and order of summation as a trajectory with
 # every = 1 whose samples the window then reads, so the same bits; and the mean of E over them
 # that of the exact E within a multiple of rtol.
-WINDOW = """
-[scene]
-name = "damped_oscillator"
-omega = 1.0
-gamma = {gamma!r}
-[integrator]
-method = "dop853"
-rtol = 1e-9
-atol = 1e-9
-h = 0.01
-t_end = 20.0
-[grid]
-q_0 = {{ from = 0.6, to = 1.4, n = 9 }}
-p_0 = {{ values = [-0.3, 0.0, 0.3] }}
-[measures]
-observe = {{ E = "0.5*p^2 + 0.5*q^2" }}
+WINDOW = SCENE_A.replace("{rtol!r}", "1e-9").replace("{t_end!r}", "20.0") + """observe = {{ E = "0.5*p^2 + 0.5*q^2" }}
 observe_window = {{ from = 10.0, to = 20.0 }}
 {trajectory}
 """
