@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/run_plan.hpp"
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
 #include "physics/scene_catalog.hpp"
@@ -295,6 +296,29 @@ basin = { recurrence = true, cell_size = 0.05, recurrences = 30, locate = 200, m
   EXPECT_EQ(d.recurrences, 100);
   EXPECT_EQ(d.locate, 1000);
   EXPECT_TRUE(d.box.empty());
+}
+
+// The stroboscopic map of a fixed-step method needs a whole number of steps per period; an
+// adaptive method samples it at t_start + k·period from its steps' dense output, whatever h
+// (its first step) is: counted samples, the last at or a rounding's hair below t_end.
+TEST(SpecParser, AnAdaptiveMethodsStroboscopicPeriodNeedNotDivideIntoSteps) {
+  const std::string strobe = kDoubleWell +
+                             "[integrator]\nh = 0.1\nt_end = 100.0\n{}[measures]\n"
+                             "basin = { period = 3.141592653589793 }\n";
+  auto with = [&](const std::string& method) {
+    std::string text = strobe;
+    return text.replace(text.find("{}"), 2, method);
+  };
+  expect_input_error(with("method = \"rk4\"\n"),
+                     "measures.basin.period = 3.141592653589793: the stroboscopic map needs a whole "
+                     "number of steps per period");
+  const RunSpec spec = parse(with("method = \"dop853\"\nrtol = 1e-8\n"));
+  const RunPlan plan(spec, *find_scene(spec.scene), *find_method(spec.method));
+  EXPECT_TRUE(plan.attractors.dense_strobe);
+  EXPECT_EQ(plan.attractors.sample_steps, 1);
+  EXPECT_EQ(plan.attractors.strobe_last, 31);  // 31 pi = 97.4 <= 100 < 32 pi
+  EXPECT_EQ(plan.attractors.dwell_samples, 16);  // the default dwell: 16 periods
+  EXPECT_EQ(plan.chunk, 32);  // not cut to divide a period: its samples fall inside steps
 }
 
 TEST(SpecParser, SyncWindowGivenOrSecondHalfOfTheRun) {

@@ -88,6 +88,27 @@ def main():
                   f"force evaluations, fewer than any 2nd-order method (cheapest "
                   f"{min(second.values()):.3g})")
 
+        # dop853 over rtol: its error proportional to rtol (tolerance proportionality: slope 1 of
+        # log error over log rtol, within ORDER_TOL, on its quick series 1e-5, 1e-7, 1e-9, all
+        # far above the reference's and round-off's error), and on scene A below 10 rtol (1.7
+        # rtol measured; the double well's crossings of its barrier amplify it to ~70 rtol); its
+        # cost in attempts grows as rtol falls.
+        for scene, r in traj.items():
+            rows = r["adaptive"]["rows"]
+            rtol = np.array([x["rtol"] for x in rows])
+            err = np.array([x["error"] for x in rows])
+            attempts = [x["attempts"] for x in rows]
+            slope = float(np.polyfit(np.log(rtol), np.log(err), 1)[0])
+            ok = abs(slope - 1.0) <= ORDER_TOL and all(a < b for a, b in zip(attempts, attempts[1:]))
+            if scene == "damped_oscillator":
+                ok = ok and (err <= 10 * rtol).all()
+            check(failures, ok, f"{scene} dop853: error {err.tolist()} over rtol {rtol.tolist()} "
+                  f"(slope {slope:.2f}), attempts {attempts}")
+        for case in ("basins", "basins_magnetic_pendulum"):
+            rows = res[case]["adaptive"]
+            check(failures, len(rows) >= 2 and all(0.0 <= x["differ"] < 0.05 for x in rows),
+                  f"{case} dop853: differing fractions {[x['differ'] for x in rows]}")
+
         # Basin maps: the hybrid leap-frog's map converges to the reference as h falls.
         b = res["basins"]
         rows = b["methods"]["hybrid_leapfrog"]

@@ -64,7 +64,16 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
   r.tolerance = plan.attractors.tolerance;
   r.angle_period = plan.attractors.angle_period;
   r.stroboscopic = stroboscopic(plan);
-  if (r.stroboscopic) {
+  if (r.stroboscopic && plan.method.adaptive) {
+    // An adaptive method's h need not divide the period: the orbit steps its formula at the
+    // nearest h that does, over the run's whole periods.
+    const double period = *spec.measures.basin->period;
+    r.sample_steps = std::max<std::int64_t>(1, std::llround(period / spec.h));
+    r.h = period / static_cast<double>(r.sample_steps);
+    const std::int64_t periods = plan.attractors.strobe_last;
+    r.transient_steps = (from_lane ? periods : periods / 2) * r.sample_steps;
+    r.window_steps = r.samples * r.sample_steps;
+  } else if (r.stroboscopic) {
     // One sample per forcing period, over K periods, after the transient rounded down to whole
     // periods (the point is on the section at t_start + k·period).
     r.sample_steps = std::llround(*spec.measures.basin->period / spec.h);

@@ -15,7 +15,8 @@
 // An adaptive method (dop853): a chunk is `chunk` attempts of every lane, each lane at its own
 // time (LaneTile::ad); a lane is looked at when it reaches t_end, and b.n counts its attempts
 // (capped at kAdaptiveMaxSteps: a lane that needs more fails as a breakdown, as dop853.f's nmax);
-// its trajectory and sync samples come from its steps' dense output (dense_samples.hpp).
+// its trajectory, sync and stroboscopic samples come from its steps' dense output
+// (dense_samples.hpp).
 #pragma once
 
 #include <cmath>
@@ -68,7 +69,7 @@ class BlockRunner {
       const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
-      main_.ad.sampling = fin_.ad.sampling = plan.samples > 0 || plan.map.sync_r >= 0;
+      main_.ad.sampling = fin_.ad.sampling = dense_samples_.any();
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -190,11 +191,17 @@ class BlockRunner {
                                             if constexpr (kFormulas)
                                               if (hooks) formulas_.after_step(t, which, s);
                                           });
-    } else if constexpr (kAdaptive) {  // its formulas read samples only (no stop, no
-                                        // every-step window: spec_integrator.cpp)
-      advance_adaptive<S, Method, carry, Uniform>(
-          t, steps, uniform_params_, [](int) {},
-          [&](int i, const auto& dense) { dense_step(t, i, dense); });
+    } else if constexpr (kAdaptive) {  // its formulas read samples and the stop's condition
+                                        // (no every-step window: spec_integrator.cpp)
+      auto on_dense = [&](int i, const auto& dense) { dense_step(t, i, dense); };
+      if constexpr (Formulas::stop) {
+        auto stops = [&](int i) { return formulas_.stops_now(t, i); };
+        advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
+                                                    on_dense, stops);
+      } else {
+        advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
+                                                    on_dense);
+      }
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
         advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
@@ -209,14 +216,10 @@ class BlockRunner {
     }
   }
 
-  // Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
+  // Lane i of tile t took a step that reached its next sample time or its stop (defined in
+  // block_runner_stop.hpp).
   template <class Dense>
-  void dense_step(Tile& t, int i, const Dense& dense) {
-    Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
-    dense_samples_.in_step(b, t.lane(i), t.ad.t[i], t.params(i), dense, sample_at(slot(t, i)),
-                           sync_at());
-    t.ad.next_sample[i] = dense_samples_.next(b);
-  }
+  void dense_step(Tile& t, int i, const Dense& dense);
   // Trajectory sample k of the lane in `lane_slot` (an adaptive lane's: n = k·every nominal
   // steps, the time the observables see).
   auto sample_at(int lane_slot) {
@@ -230,6 +233,18 @@ class BlockRunner {
   auto sync_at() {
     return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
       sample_sync(b, n, x.q, x.p, c);
+    };
+  }
+  // observe_window's sample at nominal step n of the lane in `lane_slot` (no trajectory).
+  auto window_at(int lane_slot) {
+    return [this, lane_slot](Book&, std::int64_t n, const LaneState<D>& x, const Params& c) {
+      formulas_.window_sample(lane_slot, n, x, c);
+    };
+  }
+  // The stroboscopic map's sample k of the lane in `lane_slot`, to the mappers that sample it.
+  auto strobe_at(int lane_slot) {
+    return [this, lane_slot](Book& b, std::int64_t k, const LaneState<D>& x, const Params& c) {
+      mappers_.look_stroboscopic(lane_slot, k, x, c, b.basin);
     };
   }
 
@@ -314,7 +329,8 @@ class BlockRunner {
       bool failed = lane_failed<S>(x, status);
       if (!failed) observe(i, b, x, c);
       if constexpr (kAdaptive)
-        if (!failed && at_end) dense_samples_.at_end(b, x, c, sample_at(i), sync_at());
+        if (!failed && at_end)
+          dense_samples_.at_end(b, x, c, sample_at(i), sync_at(), strobe_at(i), window_at(i));
       if (b.basin.settled) mappers_.disarm(i);  // nothing more to look for
       bool done = failed || at_end || (b.basin.settled && basin_early_stop_);
       if (done) {
@@ -371,6 +387,9 @@ class BlockRunner {
   // Looks at the healthy lane in `lane_slot` at step b.n (a multiple of the chunk, or t_end).
   void observe(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
     if (plan_.map.basin >= 0 && !b.basin.settled) mappers_.look(lane_slot, b.n, x, c, b.basin);
+    // An adaptive lane's stroboscopic map: sample 0 here, the others from its steps.
+    if constexpr (kAdaptive)
+      if (b.n == 0) dense_samples_.at_start(b, x, c, strobe_at(lane_slot));
     // An adaptive lane's samples after the first come from its steps' dense output.
     if (plan_.samples > 0 && (!kAdaptive || b.n == 0)) {
       auto every = plan_.spec.measures.trajectory->every;
@@ -431,57 +450,14 @@ class BlockRunner {
     }
   }
 
-  // ---- the stop (engine/measures/observables.hpp) --------------------------------------------
+  // ---- the stop (engine/measures/observables.hpp; defined in block_runner_stop.hpp) -----------
 
   // Lane i of tile t (in `lane_slot`), flagged in its last advance of `steps` steps from b.n:
-  // stepped again to the stop, and finished there.
-  void stop_lane(int lane_slot, const Tile& t, int i, Book& b, int steps) {
-    const Params c = t.params(i);
-    const Coef k = t.coef(i);
-    LaneState<D> x;
-    if constexpr (carry.tangent) {
-      // The state and its tangent stepped again together (lyapunov_lanes.hpp).
-      b.n = formulas_.rerun(lane_slot, c, steps, x,
-                            [&](std::int64_t base) { lyapunov_.rerun_begin(lane_slot, base); },
-                            [&](LaneState<D>& y, std::int64_t n, int s) {
-                              lyapunov_.rerun_step(lane_slot, y, n, s, steps, c, k);
-                            });
-      lyapunov_.rerun_end(lane_slot);
-    } else {
-      b.n = formulas_.rerun(lane_slot, c, steps, x, [](std::int64_t) {},
-                            [&](LaneState<D>& y, std::int64_t, int) {
-                              Method::template step<S, carry>(y, c, k);
-                            });
-    }
-    x.t = clock_.at(b.n);
-    LaneStatus status = LaneStatus::ok;
-    if (lane_failed<S>(x, status)) return finish(lane_slot, b, x, c, status);
-    finish_stopped(lane_slot, b, x, c);
-  }
-
-  // A healthy lane that stopped at step b.n in state x: its sample there, if one is due, and
-  // its exit as the basin's outcome — unless it settled first (with basin.early_stop = false it
-  // ran on after settling): a lane's outcome is the first decided.
-  void finish_stopped(int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
-    if (plan_.samples > 0) {
-      const auto every = plan_.spec.measures.trajectory->every;
-      if (b.n % every == 0 && b.n / every >= b.samples_recorded) {
-        writer_.record_sample(b, b.n / every, x, c);
-        formulas_.record_sample(lane_slot, b.point, b.n / every, b.n, x, c);
-        b.samples_recorded = b.n / every + 1;
-      }
-    }
-    const int exit = formulas_.exit_of(x, clock_.at(b.n), c);
-    if (plan_.map.basin >= 0 && !b.basin.settled) {
-      if (exit > 0) {
-        b.basin.settled = true;
-        b.basin.period = kExitPeriod;
-        b.basin.point[0] = exit;
-        b.basin.settle_time = clock_.at(b.n);
-      }
-    }
-    finish(lane_slot, b, x, c, LaneStatus::ok, true, exit);
-  }
+  // stepped again to the stop (an adaptive lane: held there), and finished there.
+  void stop_lane(int lane_slot, const Tile& t, int i, Book& b, int steps);
+  // A healthy lane that stopped in state x: its sample there, if one is due, and its exit as
+  // the basin's outcome — unless it settled first.
+  void finish_stopped(int lane_slot, Book& b, const LaneState<D>& x, const Params& c);
 
   const RunPlan& plan_;
   BlockResults& out_;
@@ -508,3 +484,5 @@ class BlockRunner {
 };
 
 }  // namespace cs
+
+#include "engine/block_runner_stop.hpp"  // NOLINT(build/include): the stop's member definitions

@@ -170,12 +170,16 @@ template <Scene S, Carry carry, class Method, int W>
 // before the step; when the step is accepted and does reach it, on_dense(i, d) gets the step's
 // continuous extension d (numerics/dop853_dense.hpp), built from that lane's stages alone, and
 // sets the lane's next sample time. The steps themselves are those of a run without samples.
+// With `watch` (the stop: engine/measures/observables.hpp) every lane keeps its state before
+// each step, and a lane whose accepted step ends where watch(i) holds gets on_dense(i, d) too.
 template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep,
-          class OnDense = std::nullptr_t>
+          class OnDense = std::nullptr_t, class Watch = std::nullptr_t>
 [[gnu::flatten]] inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
                                               const ParamsOf<S, double>& uniform,
                                               AfterStep&& after_step,
-                                              OnDense&& on_dense = nullptr) {
+                                              OnDense&& on_dense = nullptr,
+                                              Watch&& watch = nullptr) {
+  constexpr bool kWatch = !std::is_null_pointer_v<std::remove_cvref_t<Watch>>;
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr bool with_mu = carry.mu && !S::kz_constant;
@@ -227,11 +231,11 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
     bool may_reach[W];
     P y_before[W];
     if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<OnDense>>) {
-      if (t.ad.sampling) {
+      if (t.ad.sampling || kWatch) {
         for (int i = 0; i < W; ++i) {
           h_before[i] = Method::step_to_try(t.ad.t[i], t.ad.h[i], control);
           t_before[i] = t.ad.t[i];
-          may_reach[i] = t.ad.t[i] + h_before[i] >= t.ad.next_sample[i];
+          may_reach[i] = kWatch || t.ad.t[i] + h_before[i] >= t.ad.next_sample[i];
           if (may_reach[i]) dense_due = true, y_before[i] = state(i);
         }
       }
@@ -262,8 +266,10 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
         for (int i = 0; i < W; ++i) {
           // Accepted (its time moved) and at its sample: the last step lands on t_end, which
           // may round below t_before + h; the runner takes a sample at t_end from the state.
-          if (!(may_reach[i] && t.ad.t[i] > t_before[i] && t.ad.t[i] >= t.ad.next_sample[i]))
-            continue;
+          if (!(may_reach[i] && t.ad.t[i] > t_before[i])) continue;
+          bool due = t.ad.t[i] >= t.ad.next_sample[i];
+          if constexpr (kWatch) due = due || watch(i);
+          if (!due) continue;
           P r[kStages];
           load_rates(r, std::integral_constant<int, kStages>{}, i);
           const ParamsOf<S, double> c = Uniform ? c0 : t.params(i);

@@ -26,6 +26,8 @@ struct LaneBook {
   std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
   SyncTracker sync;
   std::int64_t sync_n = 0;  // an adaptive lane's next sync sample, a step of the nominal clock
+  std::int64_t strobe_k = 0;  // an adaptive lane's next stroboscopic sample (RunPlan::attractors)
+  std::int64_t window_n = 0;  // an adaptive lane's next observe_window sample, a nominal step
 };
 
 template <Scene S>

@@ -28,7 +28,8 @@ bool wants(const std::vector<std::string>& list, const std::string& name) {
 // Steps between looks at the lanes: long enough that looking costs little next to stepping
 // (32 steps: the look costs ~3 % of a chunk, at 16 it cost 12 % more instructions), short
 // enough for a prompt early stop and a settle_time resolved to 32 h; always a divisor of the
-// trajectory sampling interval and of the stroboscopic period, so that samples fall on looks.
+// trajectory sampling interval and of the stroboscopic period, so that samples fall on looks
+// (a fixed-step method's: an adaptive method's samples fall inside its steps).
 // Synchronization is sampled on looks, which must be close enough (≤ 0.2 time units) for the
 // phases to be unwrapped unambiguously and to resolve the oscillations.
 int choose_chunk(const RunSpec& spec) {
@@ -40,7 +41,7 @@ int choose_chunk(const RunSpec& spec) {
   const MethodInfo* method = find_method(spec.method);
   const bool adaptive = method != nullptr && method->adaptive;
   if (spec.measures.trajectory && !adaptive) multiple_of = spec.measures.trajectory->every;
-  if (spec.measures.basin && spec.measures.basin->period)
+  if (spec.measures.basin && spec.measures.basin->period && !adaptive)
     multiple_of = std::gcd(multiple_of, std::llround(*spec.measures.basin->period / spec.h));
   if (multiple_of == 0) return static_cast<int>(cap);
   for (std::int64_t c = std::min<std::int64_t>(multiple_of, cap); c > 1; --c)
@@ -219,7 +220,19 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   a.tolerance = basin.tolerance;
   a.max_period = basin.max_period;
   a.sample_steps = basin.period ? std::llround(*basin.period / spec.h) : chunk;
-  const double sample_time = static_cast<double>(a.sample_steps) * spec.h;
+  double sample_time = static_cast<double>(a.sample_steps) * spec.h;
+  if (basin.period && method.adaptive) {
+    a.dense_strobe = true;
+    a.sample_steps = 1;
+    sample_time = *basin.period;
+    // The last k with t_start + k·period ≤ t_end, a hair's rounding beyond it counted in (that
+    // sample takes the state at t_end, as a trajectory's does).
+    const double span = spec.t_end - spec.t_start, slack = 1e-12 * span;
+    a.strobe_last = static_cast<std::int64_t>(std::floor((span + slack) / *basin.period));
+    while (a.strobe_last > 0 &&
+           spec.t_start + static_cast<double>(a.strobe_last) * *basin.period > spec.t_end + slack)
+      --a.strobe_last;
+  }
   a.dwell_samples = static_cast<int>(
       std::clamp(std::ceil(basin.dwell / sample_time - 1e-9), 1.0, 1e9));
   a.angle_period.assign(static_cast<std::size_t>(phase_space), 0.0);

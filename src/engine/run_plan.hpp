@@ -67,6 +67,11 @@ struct AttractorSearch {
   int max_period = 1;
   double tolerance = 0.0;
   std::vector<double> angle_period;  // per phase-space variable q.., p..: 0 if not an angle
+  // An adaptive method's stroboscopic map: its lanes have no common steps, so the map's samples
+  // are counted (sample_steps = 1) and taken at t_start + k·period, k = 0 … strobe_last, from
+  // the steps' dense output (engine/dense_samples.hpp).
+  bool dense_strobe = false;
+  std::int64_t strobe_last = -1;
 };
 
 struct RunPlan {

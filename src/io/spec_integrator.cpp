@@ -73,9 +73,9 @@ void SpecReader::read_tolerances(const toml::table& t) {
 }
 
 // What an adaptive method does not do yet, refused by name. Its lanes step to times of their
-// own; the samples of a trajectory, its observables and sync between two steps come from the
-// step's dense output (numerics/dop853_dense.hpp), which stop, an observe_window sampled every
-// step and the stroboscopic map do not read yet.
+// own; the samples of a trajectory, its observables, sync, the stroboscopic map, an
+// observe_window's every nominal step and the stop's time between two steps come from the
+// step's dense output (numerics/dop853_dense.hpp).
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
   const Measures& m = spec_.measures;
@@ -84,18 +84,8 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  const char* between = "its lanes step to times of their own, and this measure does not read "
-                        "the steps' dense output yet (trajectory, observe and sync do); use a "
-                        "fixed-step method";
-  if (m.observe && m.observe->window && !m.trajectory)
-    refuse("measures.observe_window without measures.trajectory",
-           "the window's samples are every step, and its lanes have steps of their own; add a "
-           "trajectory, whose samples the window then reads");
-  if (m.stop) refuse("measures.stop", between);
   if (m.lyapunov)
     refuse("measures.lyapunov", "the tangent of an adaptive step is not written");
-  if (m.basin && m.basin->period)
-    refuse("measures.basin.period", "the stroboscopic map samples between steps (dense output)");
   for (const GridAxis& axis : spec_.axes)
     if (axis.is_step_size)
       refuse("a grid over h", "h is only its first step; vary integrator.rtol in runs of their own");

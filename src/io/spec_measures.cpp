@@ -12,6 +12,7 @@
 #include <string>
 
 #include "io/spec_suggestions.hpp"
+#include "numerics/method_catalog.hpp"
 
 namespace cs::spec {
 
@@ -185,6 +186,9 @@ void SpecReader::read_basin_period(const toml::node& node, BasinMeasure& basin) 
   if (!(period > 0.0)) fail_value(node, key, "the forcing period > 0");
   std::vector<double> hs{spec_.h};
   if (!spec_.axes.empty() && spec_.axes.front().is_step_size) hs = spec_.axes.front().values;
+  // An adaptive method samples the map at t_start + k·period from its steps' dense output:
+  // its h (the first step) need not divide the period.
+  if (find_method(spec_.method)->adaptive) hs.clear();
   for (double h : hs) {
     const double ratio = period / h;
     const auto steps = std::llround(ratio);

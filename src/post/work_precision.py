@@ -18,6 +18,8 @@
    time parsing and the HDF5 write) gives each method's time per trajectory-step on each scene; cost(h) = (t_end / h) * that, and force evaluations = (t_end / h) * evals per step.
    Also: relative error of H = lambda K at t_end (exactly conserved by the flow), and over a long
    run (oscillator, gamma = 0.01, t = 10^4, h = 0.1 and 0.05).
+   dop853 (adaptive: no h) is charted over rtol on the time and evaluation axes
+   (work_precision_adaptive.py), and on the basin maps below.
 2. Basin maps. sweeps/basins_double_well.toml at 512 x 512 cells (t_end = 100, early stop as in
    the spec) per method and step size (whole steps of 100): fraction of cells whose basin differs
    from a fine reference map (contact_splitting6, h = 0.0025; its own differing fraction against
@@ -53,6 +55,7 @@ from stability_maps import (METHOD_STYLE, load, method_set, methods_table, run, 
                             toml_list)
 
 import matplotlib.pyplot as plt  # noqa: E402  (stability_maps selected the Agg backend)
+import work_precision_adaptive as adaptive  # noqa: E402  (dop853's series, over rtol)
 
 ROOT = Path(__file__).resolve().parents[2]
 SWEEPS = ROOT / "sweeps"
@@ -222,6 +225,9 @@ def trajectories(binary, table, out, quick):
             r["methods"][m] = {"h": h.tolist(), "error": err.tolist(), "H_error": herr.tolist(),
                                "order_fit": order, "fit_points": npts, "fit_range": [FIT_LO[scene], FIT_HI],
                                "s_per_step": timing[m]["s_per_step"], "timing": timing[m]}
+        error = (lambda ds: error_oscillator(ds, spec)) if ref is None else (
+            lambda ds: error_double_well(ds, ref))
+        r["adaptive"] = adaptive.trajectories(binary, scene, spec_path, error, out, quick, load)
         res[scene] = r
     return res
 
@@ -275,6 +281,8 @@ def print_trajectories(res, table):
             best = cheapest(r, tol)
             print(f"  error <= {tol:.0e}: " + ", ".join(
                 f"{m} {c * 1e6:.2f} us (h = {hh:.3g})" for m, c, hh in best[:3]))
+        if "adaptive" in r:
+            adaptive.print_trajectories(scene, r["adaptive"])
 
 
 def cheapest(r, tol):
@@ -313,6 +321,8 @@ def chart_trajectories(res, table, out):
             axes[0].loglog(h, e, label=label, **kw)
             axes[1].loglog(steps * d["s_per_step"], e, label=f"{m}: {d['s_per_step'] * 1e9:.2f} ns/step", **kw)
             axes[2].loglog(steps * table[m][1], e, label=f"{m}: {table[m][1]} eval/step", **kw)
+        if "adaptive" in r:
+            adaptive.chart_trajectories(axes, r["adaptive"])
         if "reference" in r:
             for ax in axes:
                 ax.axhline(r["reference"]["own_error"], color="k", lw=0.8, ls="--",
@@ -371,12 +381,15 @@ def basins(binary, methods, out, quick, case="double_well"):
            "one_step_wall_s": launch, "one_step_s": setup, "repeats": repeats, "methods": {}}
     # Rounds over every (method, h) in turn, so a burst of load from other work on the machine
     # does not land on one method only; medians over the rounds.
-    times = {(m, h): [] for m in methods for h in hs}
+    # dop853 over rtol (work_precision_adaptive.py) in the same rounds.
+    runs = {(m, h): (f"{m}_h{h:g}", [method_set(m), ("integrator.h", repr(h))])
+            for m in methods for h in hs}
+    runs.update({(adaptive.METHOD, r): (f"{adaptive.METHOD}_rtol{r:g}", adaptive.settings(r))
+                 for r in adaptive.BASIN_RTOLS[0 if quick else 1]})
+    times = {k: [] for k in runs}
     for _ in range(repeats):
-        for m in methods:
-            for h in hs:
-                times[m, h].append(run_timed(binary, spec, out / f"basin_{case}_{m}_h{h:g}.h5",
-                                             grid + [method_set(m), ("integrator.h", repr(h))]))
+        for k, (name, sets) in runs.items():
+            times[k].append(run_timed(binary, spec, out / f"basin_{case}_{name}.h5", grid + sets))
     for m in methods:
         rows = []
         for h in hs:
@@ -387,6 +400,15 @@ def basins(binary, methods, out, quick, case="double_well"):
                          "differ": float((ds.basin.values != ref).mean()),
                          "failed": float((ds.status.values != 0).mean())})
         res["methods"][m] = rows
+    res["adaptive"] = []
+    for (m, r), (name, _) in runs.items():
+        if m != adaptive.METHOD:
+            continue
+        ds, t = load(out / f"basin_{case}_{name}.h5"), np.array(times[m, r])
+        res["adaptive"].append({"rtol": r, "time_s": float(np.median(t[:, 1])),
+                                "time_range_s": [float(t[:, 1].min()), float(t[:, 1].max())],
+                                "differ": float((ds.basin.values != ref).mean()),
+                                "failed": float((ds.status.values != 0).mean())})
     print(f"\n{c['title']}: basin map {n} x {n} (t_end = {c['t_end']:g}, early stop): fraction of cells whose basin differs "
           f"from contact_splitting6 at h = {h_ref:g} (which itself differs from h = {h_ref / 2:g} "
           f"in {ref_diff:.2e} = {round(ref_diff * n * n)} cells). Time: the program's own time "
@@ -399,6 +421,9 @@ def basins(binary, methods, out, quick, case="double_well"):
         cells = [res["methods"][m][i] for m in methods]
         print(f"{h:8g}" + "".join(f"{c['differ']:>11.2e}{'(%d)' % round(c['differ'] * n * n):>8s}"
                                   f"{c['time_s']:>7.3f}" for c in cells))
+    for r in res["adaptive"]:
+        print(f"{adaptive.METHOD} rtol {r['rtol']:g}: {r['differ']:.2e} "
+              f"({round(r['differ'] * n * n)} cells), {r['time_s']:.3f} s")
     for m in methods:
         bad = [r["h"] for r in res["methods"][m] if r["failed"] > 0]
         if bad:
@@ -414,6 +439,8 @@ def chart_basins(res, out):
         f = np.maximum([r["differ"] for r in rows], floor)
         axes[0].loglog([r["time_s"] for r in rows], f, color=color, marker=marker, ms=4, lw=1.2, label=m)
         axes[1].loglog([r["h"] for r in rows], f, color=color, marker=marker, ms=4, lw=1.2, label=m)
+    if res.get("adaptive"):
+        adaptive.chart_basins(axes[0], res["adaptive"], floor)
     for ax in axes:
         ax.axhline(floor, color="0.5", lw=0.8, ls=":", label="no cell differs (drawn at half a cell)")
         if res["ref_diff"] > 0:

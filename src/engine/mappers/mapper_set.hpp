@@ -2,7 +2,8 @@
 // the anchor test at every look, or the stroboscopic cycles when measures.basin.period is given;
 // and the energy trap wherever K has one (unless measures.basin.exact_trap = false); last, the
 // recurrences (any attractor, RunPlan::recurrence) for lanes the others have not settled. A new mapper is one more file in this folder
-// and one more member here; the block runner calls only this set (basin_mapper.hpp).
+// and one more member here; the block runner calls only this set (basin_mapper.hpp). An
+// adaptive method's stroboscopic map comes from its steps' dense output (look_stroboscopic).
 #pragma once
 
 #include <algorithm>
@@ -28,32 +29,36 @@ class MapperSet {
   MapperSet(const RunPlan& plan, LaneClock clock, const Params& uniform)
       : anchors_(plan, autonomous(plan), clock),
         trap_(plan, mapping(plan) && plan.spec.measures.basin->exact_trap, clock, uniform),
-        strobe_(plan, mapping(plan) && !autonomous(plan), clock),
-        recur_(plan, mapping(plan) && plan.recurrence.enabled, clock) {}
+        strobe_(plan, mapping(plan) && !autonomous(plan), map_clock(plan, clock)),
+        recur_(plan, mapping(plan) && plan.recurrence.enabled, map_clock(plan, clock)),
+        dense_strobe_(mapping(plan) && plan.attractors.dense_strobe) {}
 
   [[gnu::always_inline]] void clear(int slot) {
     each([&](auto& m) { m.clear(slot); });
   }
 
-  // A healthy lane at step n: each mapper in turn, until one settles it. A settlement another
-  // mapper refuses (it knows the point is no attractor) is undone, and the mapper that made it
-  // stops looking at the lane.
+  // A healthy lane at step n: each mapper in turn, until one settles it (settle_with).
+  // An adaptive lane's stroboscopic map is sampled inside its steps (look_stroboscopic): its
+  // looks are not on the map, and the mappers that sample it skip them.
   template <class Lane>
   void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
     each([&](auto& m) {
-      if (s.settled) return;
-      m.look(slot, n, x, c, s);
-      // The trap settles at a well's minimum, which no mapper refuses: asking cost the double
-      // well's map 2 % of its bookkeeping.
-      constexpr bool the_trap = std::is_same_v<std::decay_t<decltype(m)>, EnergyTrap<S, Uniform, W>>;
-      if (!the_trap && s.settled && refused(s, c)) {
-        s = Settlement<N>{};
-        m.disarm(slot);
-      }
+      if (dense_strobe_ && samples_map(m)) return;
+      settle_with(m, slot, n, x, c, s);
     });
     // A lane in a well the trap missed: the anchor test finds where it settles, from here.
     if (trap_.active() && trap_.take_lost() && anchors_.active() && !anchors_.armed(slot))
       anchors_.arm(slot, x, c, s);
+  }
+
+  // An adaptive lane's stroboscopic sample k, at t_start + k·period (engine/dense_samples.hpp):
+  // the mappers that sample the map, in their order.
+  template <class Lane>
+  void look_stroboscopic(int slot, std::int64_t k, const Lane& x, const Params& c,
+                         Settlement<N>& s) {
+    each([&](auto& m) {
+      if (samples_map(m)) settle_with(m, slot, k, x, c, s);
+    });
   }
 
   // After the look at load; a lane settled at once is never screened. The anchor test is not
@@ -97,7 +102,9 @@ class MapperSet {
 
   [[gnu::always_inline]] std::int64_t next_look(std::int64_t n) const {
     std::int64_t next = std::numeric_limits<std::int64_t>::max();
-    each([&](const auto& m) { next = std::min(next, m.next_look(n)); });
+    each([&](const auto& m) {
+      if (!(dense_strobe_ && samples_map(m))) next = std::min(next, m.next_look(n));
+    });
     return next;
   }
 
@@ -113,6 +120,35 @@ class MapperSet {
   static bool mapping(const RunPlan& plan) { return plan.map.basin >= 0; }
   static bool autonomous(const RunPlan& plan) {
     return mapping(plan) && !plan.spec.measures.basin->period.has_value();
+  }
+
+  // The clock of the mappers that sample the stroboscopic map: an adaptive lane's samples are
+  // counted, k at t_start + k·period (RunPlan's dense_strobe); else the steps' own.
+  static LaneClock map_clock(const RunPlan& plan, LaneClock steps) {
+    if (!mapping(plan) || !plan.attractors.dense_strobe) return steps;
+    return LaneClock{plan.spec.t_start, *plan.spec.measures.basin->period};
+  }
+
+  // Whether mapper m samples the stroboscopic map (when there is one).
+  template <class M>
+  static constexpr bool samples_map(const M&) {
+    return std::is_same_v<M, StroboscopicCycles<D, W>> || std::is_same_v<M, Recurrences<D, W>>;
+  }
+
+  // Mapper m looks at the lane at step (or sample) n, unless it has settled. A settlement
+  // another mapper refuses (it knows the point is no attractor) is undone, and m stops looking.
+  template <class M, class Lane>
+  [[gnu::always_inline]] void settle_with(M& m, int slot, std::int64_t n, const Lane& x,
+                                          const Params& c, Settlement<N>& s) {
+    if (s.settled) return;
+    m.look(slot, n, x, c, s);
+    // The trap settles at a well's minimum, which no mapper refuses: asking cost the double
+    // well's map 2 % of its bookkeeping.
+    constexpr bool the_trap = std::is_same_v<M, EnergyTrap<S, Uniform, W>>;
+    if (!the_trap && s.settled && refused(s, c)) {
+      s = Settlement<N>{};
+      m.disarm(slot);
+    }
   }
 
   bool refused(const Settlement<N>& s, const Params& c) const {
@@ -141,6 +177,7 @@ class MapperSet {
   EnergyTrap<S, Uniform, W> trap_;
   StroboscopicCycles<D, W> strobe_;
   Recurrences<D, W> recur_;
+  bool dense_strobe_;
 };
 
 }  // namespace cs

@@ -75,9 +75,10 @@ class Recurrences {
       s.period = 0;
       s.point = grid_.centre(tracker.representative());
       s.settle_time = clock_.at(start_ + tracker.settle_sample() * every_);
-      // An adaptive method's looks are attempts apart, not time: the time of this look, a bound.
+      // An adaptive method's looks are attempts apart, not time: the time of this look, a bound
+      // (its stroboscopic samples are counted, and the clock above times them).
       if constexpr (requires { x.t; })
-        if (timed_) s.settle_time = x.t;
+        if (timed_ && !stroboscopic_) s.settle_time = x.t;
     } else if (finished(tracker.state())) {
       next_[slot] = -1;  // gave up (left the box, too many cells): record() says why
       if (slot < W) disarm(slot);

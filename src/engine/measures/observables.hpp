@@ -12,8 +12,14 @@
 // then free for the next lane: a stopped lane costs nothing after its stop but the rest of the
 // chunk it stopped in.
 //
+// An adaptive method (dop853) has no common steps to step again: the condition is evaluated after
+// each accepted step of each lane (advance_adaptive's watch), and where it holds the time it
+// first held is located on the step's continuous extension (locate_stop, bisection); the lane
+// is held there (hold_stop) until the runner looks at it.
+//
 // The window statistics: with a trajectory the samples are the trajectory's (looks); without
-// one every step is a sample, accumulated in the same vectorised pass (after_step). A lane's sums
+// one every step is a sample, accumulated in the same vectorised pass (after_step), and an
+// adaptive lane's every nominal step t_start + n·h in the window (window_sample). A lane's sums
 // run in the order of its steps: the same bits on any rank or thread.
 #pragma once
 
@@ -250,6 +256,54 @@ class FormulaTracker {
     throw std::logic_error("FormulaTracker::rerun: the stop flagged in the tile did not recur");
   }
 
+  // An adaptive lane i of tile t after an accepted step: whether the condition holds at its
+  // own time.
+  bool stops_now(const Tile& t, int i) const {
+    if constexpr (M::stop) return M::stops(view(tile_lane(t, i), t.ad.t[i]), params(t, i));
+    return false;
+  }
+
+  // The condition held at the end of the step d (from d.t0 to t_end_of_step, state `end`) and
+  // not at its start: the first time it holds, to adjacent doubles, by bisection on the step's
+  // continuous extension (one change of the condition inside a step assumed, as a fixed-step
+  // method assumes it between steps). x: the state there, from `end` and the extension.
+  template <class Dense>
+  static double locate_stop(const Dense& d, double t_end_of_step, const LaneState<D>& end,
+                            const Params& c, LaneState<D>& x) {
+    auto at = [&](double time) {
+      LaneState<D> y = end;
+      const auto v = d.at_time(time);
+      for (int k = 0; k < D; ++k) y.q[k] = v.q[k], y.p[k] = v.p[k];
+      y.z = v.z, y.mu = v.mu;
+      y.t = time;
+      return y;
+    };
+    double lo = d.t0, hi = t_end_of_step;
+    x = end;
+    x.t = hi;
+    for (int k = 0; k < 128; ++k) {
+      const double mid = lo + 0.5 * (hi - lo);
+      if (!(mid > lo && mid < hi)) break;
+      const LaneState<D> y = at(mid);
+      if (M::stops(view(y, mid), c)) hi = mid, x = y;
+      else lo = mid;
+    }
+    return hi;
+  }
+
+  // An adaptive lane in `slot` stopped at time x.t in state x: flagged for the runner's look.
+  void hold_stop(int slot, const LaneState<D>& x) {
+    hit_[slot] = 1;
+    held_[slot] = x;
+  }
+  const LaneState<D>& held_stop(int slot) const { return held_[slot]; }
+
+  // An adaptive lane's sample of observe_window without trajectory, at nominal step n (from its
+  // step's continuous extension: engine/dense_samples.hpp).
+  void window_sample(int slot, std::int64_t n, const LaneState<D>& x, const Params& c) {
+    accumulate(slot, view(x, clock_.at(n)), c);
+  }
+
   // The exit channel of a lane stopped in state x (1, 2, …), 0 when the formula gives none.
   static int exit_of(const LaneState<D>& x, double time, const Params& c) {
     const double e = M::exit(view(x, time), c);
@@ -287,7 +341,8 @@ class FormulaTracker {
         column(o_.max[k], b.point)[0] = none ? nan : max_[k][slot];
       }
     }
-    if (o_.stop) column(o_.stop_time, b.point)[0] = stopped ? clock_.at(b.n) : nan;
+    const double stop_time = adaptive_method<Method>() ? x.t : clock_.at(b.n);
+    if (o_.stop) column(o_.stop_time, b.point)[0] = stopped ? stop_time : nan;
     if (o_.exits) column(o_.stop_exit, b.point)[0] = stopped ? exit : 0;
     if (stopped && plan_.samples > 0) {
       // After the stop there is no trajectory: NaN, as after a failure (lane_writer.hpp).
@@ -378,6 +433,7 @@ class FormulaTracker {
   alignas(64) double count_[2 * W];
   alignas(64) double nan_[2 * W];
   Snapshot snapshot_[M::stop ? 2 : 1];
+  LaneState<D> held_[M::stop && adaptive_method<Method>() ? 2 * W : 1];  // hold_stop
 };
 
 }  // namespace cs
