@@ -1,5 +1,5 @@
 // Finished blocks go to the output file while the run goes on, so that no rank holds the whole
-// map (issue 27): rank 0 writes its own blocks as they are saved in the journal and receives the
+// map: rank 0 writes its own blocks as they are saved in the journal and receives the
 // other ranks' as they finish theirs; a block's streamed columns are freed once written or sent.
 // A rank then holds its blocks in flight (computing, queued for the journal, queued here) and
 // the columns that are written only at the end (`basin`, whose labels need every block, and the
