@@ -202,8 +202,9 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
       file.reset();  // removes the temporary file
     }
   };
+  // `basin` in its final type first: its statistics are read back from the file.
   if (rank == 0)
-    attempt([&] { file->complete(make_layout(plan, options, output.ranks, output.threads)); });
+    attempt([&] { file->complete_datasets(make_layout(plan, options, output.ranks, output.threads)); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec dataset = written_dataset(plan, options, k);
     if (plan.columns[k].internal || is_streamed(plan, k)) continue;
@@ -225,6 +226,10 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     }
   }
   if (rank == 0) {
+    attempt([&] {
+      if (options.statistics) options.statistics(*file);
+      file->complete(make_layout(plan, options, output.ranks, output.threads));
+    });
     attempt([&] {
       if (options.before_commit) options.before_commit();
       file->commit(options.replace_existing);

@@ -418,6 +418,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         gib(file_bytes(plan)));
   // A failure here is thrown on every rank; the journal stays for --resume.
   output_options.basins = basins ? &*basins : nullptr;
+  if (basins)
+    output_options.statistics = [&](const OutputFile& file) {
+      const std::string name = plan.columns[static_cast<std::size_t>(plan.map.basin)].dataset.name;
+      add_statistics(plan, *basins, [&](std::int64_t begin, std::int64_t end, BasinLabel* out) {
+        file.read(name, {begin, end}, out);
+      });
+    };
   write_output(plan, results, output_options, output, comm);
   test_kill_point("commit", c.rank);
   if (c.rank == 0) remove_finished_journal(journal);
