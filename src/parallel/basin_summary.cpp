@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/attractor_continuation.hpp"
+#include "engine/basin_column.hpp"
 #include "engine/strip_statistics.hpp"
 #include "mpi/comm.hpp"
 #include "parallel/undecided_summary.hpp"
@@ -147,6 +148,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
   BasinSummary summary;
   std::vector<double> candidates;
   for (const auto& block : results) {
+    const ExpandedBasin provisional(whole, *block);
     const std::vector<double> c = block_candidates(whole, *block);
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
@@ -162,7 +164,10 @@ BasinSummary summarise_basins(const RunPlan& whole,
                     [&](const Attractor& a) { return a.label >= -limit && a.label <= limit; }))
       break;
   }
-  for (auto& block : results) label_block(whole, summary.table, *block, summary.along);
+  for (auto& block : results) {
+    const ExpandedBasin labels(whole, *block, true);
+    label_block(whole, summary.table, *block, summary.along);
+  }
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
   summary.undecided = undecided_reasons(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
@@ -184,15 +189,15 @@ void add_statistics(const RunPlan& whole, BasinSummary& summary, const LabelRead
 
 double summary_bytes_on_rank0(const RunPlan& whole) {
   const BasinMapShape shape = map_shape(whole.spec);
-  const double columns =
-      shape.plane_axes > 0 ? static_cast<double>(shape.dims.back()) : 1.0;
-  const double rows = shape.plane_axes == 0   ? static_cast<double>(kStripCells)
-                      : shape.plane_axes == 1 ? 1.0
-                                              : std::max(1.0, std::floor(kStripCells / columns));
-  // A band and its halos: its labels, the two bands ε above and below it, and the Wada test's
-  // two 64-bit masks and three bytes a cell.
-  const double band = (rows + 2.0 * wada_detail::kHalo) * columns;
-  return band * (3 * sizeof(BasinLabel) + 2 * sizeof(std::uint64_t) + 3);
+  if (shape.plane_axes == 0)
+    return static_cast<double>(std::min<std::int64_t>(kStripCells, whole.grid.size())) * sizeof(BasinLabel);
+  const auto columns = shape.dims.back();
+  const std::int64_t rows = shape.plane_axes == 2 ? shape.dims[shape.dims.size() - 2] : 1;
+  const std::int64_t strip = std::max<std::int64_t>(1, kStripCells / columns);
+  // A band and its halos (strip_statistics.cpp): its labels and the two bands ε above and below
+  // it, or, for the Wada test, its labels and two 64-bit masks and three bytes a cell.
+  const auto band = static_cast<double>(std::min(rows, strip + 2 * wada_detail::kHalo) * columns);
+  return band * std::max(3 * sizeof(BasinLabel), sizeof(BasinLabel) + 2 * sizeof(std::uint64_t) + 3);
 }
 
 void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {

@@ -18,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/basin_column.hpp"
 #include "engine/fixed_point_exponent.hpp"
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
@@ -121,8 +122,9 @@ HeldValues held_values(const RunPlan& plan) {
     held.per_point_in_flight += static_cast<double>(column.width);
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const ColumnSpec& column = plan.columns[k];
-    const bool kept = column.internal || static_cast<int>(k) == plan.map.basin;
-    if (!kept) continue;
+    // `basin` is held compact (engine/basin_column.hpp): at most 4 bytes a point, half a double.
+    if (static_cast<int>(k) == plan.map.basin) held.per_point_kept += 0.5 * static_cast<double>(column.width);
+    if (!column.internal) continue;
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
     else held.per_point_kept += static_cast<double>(column.width);
   }
@@ -346,7 +348,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   JournalWriter journal_writer(
       journal, [&](std::int64_t saved) { test_kill_point("block", c.rank, saved); },
       [&] { watch.report_failure(); },  // no thread of any rank starts another block
-      [&](const BlockResults& saved) { stream.add(const_cast<BlockResults&>(saved)); });
+      [&](const BlockResults& saved) {
+        compact_basin(plan, const_cast<BlockResults&>(saved));  // saved: held compact from now
+        stream.add(const_cast<BlockResults&>(saved));
+      });
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!watch.stop() && !stop_requested()) {
@@ -358,6 +363,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         if (!loaded) run_block(*blocks[i].plan, *results[i]);
         count_statuses(*results[i], plan.map.status, statuses);
         if (loaded) {
+          compact_basin(plan, *results[i]);
           stream.add(*results[i]);
         } else {
           journal_writer.submit(*results[i]);
