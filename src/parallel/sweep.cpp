@@ -110,8 +110,8 @@ double file_bytes(const RunPlan& plan) {
 }
 
 // What a rank holds, in doubles: the columns written as blocks finish only while the blocks are
-// in flight; `basin` and the basin summary's internal columns for each of its blocks until the
-// end (a per-block column counted once per block).
+// in flight; `basin` (compact) and the basin summary's internal columns for each of its blocks
+// until the end (a per-block column counted once per block).
 struct HeldValues {
   double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
 };
@@ -166,8 +166,8 @@ std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0
 // Collective. Refuses, before any work, a run whose results cannot fit. A rank holds its blocks
 // in flight (being computed by its threads, queued for the journal, queued for the output: at
 // most about two per thread and the journal's queue) and, on a basin map, each block's labels
-// and internal columns until the end; rank 0 also gathers the whole map's labels for the
-// statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
+// (compact: engine/basin_column.hpp) and internal columns until the end; rank 0 also reads one
+// band of the map back from the file at a time for the statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
 // budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,
                      std::int64_t block_size, std::int64_t blocks,
