@@ -26,4 +26,14 @@ rc=$?
 ((rc == 2)) || fail "a budget below the blocks in flight: exit $rc, expected 2"
 grep -q "blocks of 256 points in flight" small.log || fail "the message: $(cat small.log)"
 [[ ! -e small.h5 && ! -e small.h5.partial && ! -e small.h5.journal ]] || fail "something was written"
-echo "ok: counted blocks in flight (accepted at 1.5 MiB, refused at 256 KiB)"
+# A basin map keeps its provisional labels to the end, compact (1 to 4 bytes a point, counted at
+# 4), and rank 0 reads the labels back from the file a band of rows at a time for the
+# statistics: 2048² points need ~51 MB here, where labels held as doubles plus the whole map's
+# labels and the Wada test's plane on rank 0 needed ~140 MB (refused under this budget).
+basin=(--set grid.q_0.n=2048 --set grid.p_0.n=2048 --set integrator.t_end=1)
+CONTACTSWEEP_MEMORY_LIMIT=80M "$bin" run "$spec" "${basin[@]}" -o basin.h5 --quiet >basin.log 2>&1 ||
+  fail "a basin map refused though its compact labels and one band fit: $(cat basin.log)"
+CONTACTSWEEP_MEMORY_LIMIT=48M "$bin" run "$spec" "${basin[@]}" -o basin_small.h5 --quiet >basin_small.log 2>&1
+rc=$?
+((rc == 2)) || fail "a basin map whose compact labels do not fit: exit $rc, expected 2"
+echo "ok: counted blocks in flight (accepted at 1.5 MiB, refused at 256 KiB); a 2048² basin map runs in 80 MiB"

@@ -111,6 +111,15 @@ void expect_streamed_values(hid_t file) {
   expect_scales(file, "settle_time", {"x", "y"});
 }
 
+// `path` holds the streamed values, and the objects of `reference` in the same creation order.
+void expect_same_objects(const std::string& path, const std::string& reference) {
+  Reader a(path), b(reference);
+  ASSERT_GE(a.file, 0);
+  ASSERT_GE(b.file, 0);
+  EXPECT_EQ(names_in_creation_order(a.file), names_in_creation_order(b.file));
+  expect_streamed_values(a.file);
+}
+
 TEST(OutputCompletion, SameDescriptionGivesTheOneStepFile) {
   const std::string streamed = temp_path("streamed"), whole = temp_path("whole");
   const std::vector<std::int8_t> labels = {-1, 1, 1, 0, -1, -1, 1, 1, 1, 1, -1, 0};
@@ -123,11 +132,9 @@ TEST(OutputCompletion, SameDescriptionGivesTheOneStepFile) {
     out.write("basin", {{0, kPoints}}, labels.data());
     out.commit();
   }
-  Reader a(streamed), b(whole);
+  expect_same_objects(streamed, whole);
+  Reader a(streamed);
   ASSERT_GE(a.file, 0);
-  ASSERT_GE(b.file, 0);
-  EXPECT_EQ(names_in_creation_order(a.file), names_in_creation_order(b.file));
-  expect_streamed_values(a.file);
   EXPECT_EQ(read_all<std::int8_t>(a.file, "basin", H5T_NATIVE_INT8), labels);
   const hid_t basin = H5Dopen2(a.file, "basin", H5P_DEFAULT);
   EXPECT_EQ(text_attribute(basin, "long_name"), "basin of attraction");
@@ -172,6 +179,39 @@ TEST(OutputCompletion, LabelsPastInt8AreWrittenAsInt16) {
   EXPECT_EQ(H5Aexists(basin, "flag_values"), 0);
   H5Dclose(basin);
   std::filesystem::remove(path);
+}
+
+// A run's order (output_assembly.cpp): `basin` redefined and written first, read back as int32
+// for the statistics (any range, rows cut anywhere), then the tables and attributes: the same
+// objects in the same creation order as completing first, and the same values.
+TEST(OutputCompletion, BasinWrittenFirstIsReadBackAndGivesTheSameFile) {
+  const std::string first = temp_path("basin_first"), usual = temp_path("basin_usual");
+  const DatasetSpec wide{"basin", ElementType::int16, false, "numbered basins", "", {}, "",
+                         std::nullopt};
+  const std::vector<std::int16_t> labels = {1, 300, 2, 0, 1, 1, 2, 2, 2, 2, 1, -200};
+  write_streamed(usual, wide, labels);
+  {
+    OutputFile out(first, early_layout(), OutputFile::DatasetsFirst{});
+    const std::vector<std::uint8_t> status(kStatus.begin(), kStatus.end());
+    out.write("status", {{0, kPoints}}, status.data());
+    out.write("settle_time", {{0, kPoints}}, kSettle.data());
+    out.complete_datasets(whole_layout(wide));
+    out.write("basin", {{0, kPoints}}, labels.data());
+    std::vector<std::int32_t> back(kPoints, 99);
+    out.read("basin", {1, 7}, back.data() + 1);  // rows of 3: a part of one, one, a part
+    out.read("basin", {7, 12}, back.data() + 7);
+    out.read("basin", {0, 1}, back.data());
+    EXPECT_EQ(back, std::vector<std::int32_t>(labels.begin(), labels.end()));
+    EXPECT_THROW(out.read("settle_time", {0, 13}, back.data()), std::runtime_error);
+    out.complete(whole_layout(wide));
+    out.commit();
+  }
+  expect_same_objects(first, usual);
+  Reader a(first);
+  ASSERT_GE(a.file, 0);
+  EXPECT_EQ(read_all<std::int16_t>(a.file, "basin", H5T_NATIVE_INT16), labels);
+  std::filesystem::remove(first);
+  std::filesystem::remove(usual);
 }
 
 }  // namespace

@@ -214,11 +214,11 @@ TEST(SpecParser, SweptParameterOfKNeedsNoValueUnderScene) {
 }
 
 TEST(SpecParser, GridBeyondTheMemoryBudgetIsRefusedBeforeAnyCoordinateIsBuilt) {
-  // 2^40 points pass the index check but need 8 TiB: refused before linspace fills 2 x 8 MiB.
+  // 2^40 points pass the index check but need 1 TiB: refused before linspace fills 2 x 8 MiB.
   const std::string huge = kDoubleWell +
                            "[grid]\nq_0 = { from = 0, to = 1, n = 1048576 }\n"
                            "p_0 = { from = 0, to = 1, n = 1048576 }\n";
-  expect_input_error(huge, "the grid has 1099511627776 points and needs at least 8.19e+03 GiB");
+  expect_input_error(huge, "the grid has 1099511627776 points and needs at least 1.02e+03 GiB");
 }
 
 // Sets CONTACTSWEEP_MEMORY_LIMIT for one test and restores the environment after it.
@@ -232,16 +232,17 @@ class MemoryLimit {
 };
 
 TEST(SpecParser, MemoryLimitFromTheEnvironmentBoundsTheGrid) {
-  const MemoryLimit limit("1M");  // 0.8 MiB usable: 104857 doubles
-  // 320 x 320 = 102400 points + 640 coordinates = 103040 doubles: fits.
-  EXPECT_EQ(parse(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 320 }\n"
-                                "p_0 = { from = 0, to = 1, n = 320 }\n")
+  const MemoryLimit limit("1M");  // 0.8 MiB usable: 838860 bytes
+  // One byte a point (a basin map's compact label) and the coordinates as doubles:
+  // 900 x 900 = 810000 + 1800 x 8 = 824400 bytes: fits.
+  EXPECT_EQ(parse(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 900 }\n"
+                                "p_0 = { from = 0, to = 1, n = 900 }\n")
                 .grid_points(),
-            102400);
-  // 324 x 324 = 104976 + 648 doubles: over.
-  expect_input_error(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 324 }\n"
-                                   "p_0 = { from = 0, to = 1, n = 324 }\n",
-                     "the grid has 104976 points");
+            810000);
+  // 912 x 912 = 831744 + 1824 x 8 = 846336 bytes: over.
+  expect_input_error(kDoubleWell + "[grid]\nq_0 = { from = 0, to = 1, n = 912 }\n"
+                                   "p_0 = { from = 0, to = 1, n = 912 }\n",
+                     "the grid has 831744 points");
 }
 
 TEST(SpecParser, MalformedMemoryLimitIsNamed) {

@@ -28,27 +28,7 @@ struct Planes {
   }
 };
 
-// The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
-// cost ~10 ms on a 512² map).
-struct BoxCounts {
-  std::vector<std::pair<int, int>> counts;
-  void add(int label) {
-    for (auto& [l, n] : counts)
-      if (l == label) {
-        ++n;
-        return;
-      }
-    counts.emplace_back(label, 1);
-  }
-  double entropy(int total) const {
-    double s = 0.0;
-    for (const auto& [label, n] : counts) {
-      const double p = static_cast<double>(n) / total;
-      s -= p * std::log(p);
-    }
-    return s;
-  }
-};
+using basin_detail::BoxCounts;
 
 void box_entropies(const std::vector<BasinLabel>& labels, const Planes& g, int plane_axes,
                    BasinStatistics& out) {
@@ -92,6 +72,10 @@ double uncertain_fraction(const std::vector<BasinLabel>& labels, const Planes& g
   return cells > 0 ? static_cast<double>(uncertain) / static_cast<double>(cells) : kNaN;
 }
 
+}  // namespace
+
+namespace basin_detail {
+
 // Least-squares slope of log f against log ε over the points with f > 0.
 double log_log_slope(const std::vector<int>& eps, const std::vector<double>& f) {
   std::vector<double> x, y;
@@ -107,7 +91,9 @@ double log_log_slope(const std::vector<int>& eps, const std::vector<double>& f) 
   return sxy / sxx;
 }
 
-}  // namespace
+}  // namespace basin_detail
+
+using basin_detail::log_log_slope;
 
 BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels,
                                  const BasinMapShape& shape) {

@@ -3,9 +3,11 @@
 // converted to the dataset's element type when written.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "io/output_file.hpp"
@@ -21,6 +23,27 @@ struct ColumnSpec {
   bool grows = false;      // per block: starts empty and grows as the block runs (any length)
 };
 
+// Whole numbers (a basin map's labels) in the narrowest type that holds them all: 1, 2 or 4
+// bytes a value instead of a double's 8 (engine/basin_column.hpp).
+class CompactColumn {
+ public:
+  void assign(const std::vector<double>& values) {
+    double low = 0.0, high = 0.0;
+    for (double v : values) low = std::min(low, v), high = std::max(high, v);
+    if (low >= INT8_MIN && high <= INT8_MAX) data_ = std::vector<std::int8_t>(values.begin(), values.end());
+    else if (low >= INT16_MIN && high <= INT16_MAX) data_ = std::vector<std::int16_t>(values.begin(), values.end());
+    else data_ = std::vector<std::int32_t>(values.begin(), values.end());
+  }
+  void expand(std::vector<double>& out) const {
+    std::visit([&](const auto& v) { out.assign(v.begin(), v.end()); }, data_);
+  }
+  std::size_t size() const { return std::visit([](const auto& v) { return v.size(); }, data_); }
+  void clear() { data_ = std::vector<std::int8_t>(); }
+
+ private:
+  std::variant<std::vector<std::int8_t>, std::vector<std::int16_t>, std::vector<std::int32_t>> data_;
+};
+
 // The values of every column for one contiguous range of points.
 struct BlockResults {
   PointRange range;
@@ -31,6 +54,9 @@ struct BlockResults {
   std::atomic<std::int64_t>* in_flight_steps = nullptr;
 
   std::vector<char> grows;  // per column: ColumnSpec::grows (the journal reads any length)
+  // `basin` once the block is saved and streamed (compact_basin): its column is then empty.
+  CompactColumn compact_basin;
+  bool basin_compacted = false;
 
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;

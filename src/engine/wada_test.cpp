@@ -36,39 +36,52 @@ void chessboard_distance(const std::vector<char>& seed, std::int64_t rows, std::
     }
 }
 
-void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t columns, WadaTest& out) {
-  const auto cells = static_cast<std::size_t>(rows * columns);
-  // The plane's basins, numbered in order of their labels (a map has few: a linear search per
-  // cell, and the one met last first).
-  std::vector<std::int32_t> basins;
+// The plane's labels met in order (a map has few: a linear search per cell, and the one met
+// last first), unsorted; it stops one past kWadaMaxBasins.
+void collect(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins) {
   std::int32_t last = 0;
   for (std::size_t i = 0; i < cells; ++i) {
     if (labels[i] == 0 || labels[i] == last) continue;
     last = labels[i];
+    if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) return;
     if (std::find(basins.begin(), basins.end(), last) == basins.end()) basins.push_back(last);
-    if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) break;
   }
-  std::sort(basins.begin(), basins.end());
-  if (basins.size() < 3) return;
-  if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) {
-    ++out.planes_too_many;
-    return;
-  }
-  ++out.planes_tested;
-  const auto bit = [&](std::int32_t label) {
-    return Mask{1} << (std::lower_bound(basins.begin(), basins.end(), label) - basins.begin());
+}
+
+}  // namespace
+
+namespace wada_detail {
+
+void collect_basins(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins) {
+  collect(labels, cells, basins);
+}
+
+void count_rows(const std::int32_t* band, std::int64_t band_first, std::int64_t rows,
+                std::int64_t columns, std::int64_t first, std::int64_t end,
+                const std::vector<std::int32_t>& basins, WadaTest& out) {
+  // The seeds that can lie within kWadaMaxRadius of [first, end): the capped distance of a cell
+  // there is the same over these rows as over the whole plane.
+  const std::int64_t seed_first = std::max<std::int64_t>(first - kWadaMaxRadius - 1, 0);
+  const std::int64_t seed_end = std::min<std::int64_t>(end + kWadaMaxRadius + 1, rows);
+  const std::int64_t seed_rows = seed_end - seed_first;
+  const auto cells = static_cast<std::size_t>(seed_rows * columns);
+  const auto label = [&](std::int64_t r, std::int64_t c) {
+    return band[static_cast<std::size_t>((r - band_first) * columns + c)];
+  };
+  const auto bit = [&](std::int32_t l) {
+    return Mask{1} << (std::lower_bound(basins.begin(), basins.end(), l) - basins.begin());
   };
   const Mask all = basins.size() == 64 ? ~Mask{0} : (Mask{1} << basins.size()) - 1;
   // Each decided cell's own basin and the basins in its 3 × 3 neighbourhood.
   std::vector<Mask> own(cells, 0), near(cells, 0);
-  for (std::int64_t r = 0; r < rows; ++r)
+  for (std::int64_t r = seed_first; r < seed_end; ++r)
     for (std::int64_t c = 0; c < columns; ++c) {
-      const auto i = static_cast<std::size_t>(r * columns + c);
-      if (labels[i] == 0) continue;
-      own[i] = bit(labels[i]);
+      const auto i = static_cast<std::size_t>((r - seed_first) * columns + c);
+      if (label(r, c) == 0) continue;
+      own[i] = bit(label(r, c));
       for (std::int64_t rr = std::max<std::int64_t>(r - 1, 0); rr <= std::min(r + 1, rows - 1); ++rr)
         for (std::int64_t cc = std::max<std::int64_t>(c - 1, 0); cc <= std::min(c + 1, columns - 1); ++cc) {
-          const std::int32_t l = labels[static_cast<std::size_t>(rr * columns + cc)];
+          const std::int32_t l = label(rr, cc);
           if (l != 0) near[i] |= bit(l);
         }
     }
@@ -80,11 +93,13 @@ void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t colu
     const Mask b = Mask{1} << j;
     for (std::size_t i = 0; i < cells; ++i)
       seed[i] = own[i] != 0 && ((own[i] == b) ? (near[i] & ~b) != 0 : (near[i] & b) != 0);
-    chessboard_distance(seed, rows, columns, d);
+    chessboard_distance(seed, seed_rows, columns, d);
     for (std::size_t i = 0; i < cells; ++i) farthest[i] = std::max(farthest[i], d[i]);
   }
   out.covered.resize(kWadaMaxRadius, 0);
-  for (std::size_t i = 0; i < cells; ++i) {
+  const auto from = static_cast<std::size_t>((first - seed_first) * columns);
+  const auto to = static_cast<std::size_t>((end - seed_first) * columns);
+  for (std::size_t i = from; i < to; ++i) {
     if (std::popcount(near[i]) < 2) continue;  // not on a boundary
     ++out.boundary_cells;
     out.touching_all += near[i] == all;
@@ -92,6 +107,23 @@ void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t colu
     if (farthest[i] == 0)
       for (auto& n : out.covered) ++n;
   }
+}
+
+}  // namespace wada_detail
+
+namespace {
+
+void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t columns, WadaTest& out) {
+  std::vector<std::int32_t> basins;
+  collect(labels, static_cast<std::size_t>(rows * columns), basins);
+  std::sort(basins.begin(), basins.end());
+  if (basins.size() < 3) return;
+  if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) {
+    ++out.planes_too_many;
+    return;
+  }
+  ++out.planes_tested;
+  wada_detail::count_rows(labels, 0, rows, columns, 0, rows, basins, out);
 }
 
 }  // namespace

@@ -44,4 +44,20 @@ inline constexpr double kWadaVerdictFraction = 0.95;
 WadaTest wada_test(const std::vector<std::int32_t>& labels, std::int64_t planes, std::int64_t rows,
                    std::int64_t columns);
 
+// The test's parts, for a plane read a band of rows at a time (engine/strip_statistics.hpp).
+namespace wada_detail {
+// Rows of labels a band needs on each side of the rows it counts: kWadaMaxRadius for the capped
+// distance, one for the seeds' neighbourhood, one for theirs.
+inline constexpr std::int64_t kHalo = kWadaMaxRadius + 2;
+// Adds the plane's labels met, but 0, to `basins` (unsorted; it stops one past kWadaMaxBasins).
+void collect_basins(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins);
+// Adds to `out` the counts of rows [first, end) of a plane of rows × columns cells whose basins
+// are `basins` (sorted, 3 to kWadaMaxBasins). `band` holds rows [band_first, …) of the plane,
+// at least [first − kHalo, end + kHalo) within it. Integer counts: the sum over bands is the
+// whole plane's, whatever the cut.
+void count_rows(const std::int32_t* band, std::int64_t band_first, std::int64_t rows,
+                std::int64_t columns, std::int64_t first, std::int64_t end,
+                const std::vector<std::int32_t>& basins, WadaTest& out);
+}  // namespace wada_detail
+
 }  // namespace cs

@@ -12,6 +12,7 @@
 
 #include "io/output_file.hpp"
 #include "io/output_file_impl.hpp"
+#include "io/point_boxes.hpp"
 
 namespace cs {
 using namespace hdf5;
@@ -106,9 +107,9 @@ void OutputFile::Impl::create_table(const FileLayout& layout, const TableSpec& t
   tables.push_back(std::move(dataset));
 }
 
-void OutputFile::complete(const FileLayout& whole) {
+void OutputFile::complete_datasets(const FileLayout& whole) {
   Impl& s = *impl_;
-  if (!s.incomplete) fail(s.partial_path, "complete() without DatasetsFirst, or twice");
+  if (!s.incomplete) fail(s.partial_path, "complete_datasets() without DatasetsFirst, or after complete()");
   s.validate(whole);
   if (whole.datasets.size() != s.datasets.size())
     fail(s.partial_path, "complete(): the datasets differ from the file's");
@@ -119,6 +120,12 @@ void OutputFile::complete(const FileLayout& whole) {
       fail(s.partial_path, "complete(): no dataset named '" + spec.name + "'");
     if (!same_description(s.datasets[index].spec, spec)) s.redefine(index, spec);
   }
+}
+
+void OutputFile::complete(const FileLayout& whole) {
+  Impl& s = *impl_;
+  if (!s.incomplete) fail(s.partial_path, "complete() without DatasetsFirst, or twice");
+  complete_datasets(whole);  // nothing left to do if the caller did it first
   for (const auto& [name, value] : whole.text_attributes)
     if (!s.written_text.contains(name)) write_text_attribute(s.file.get(), name, value, s.checker);
   for (const auto& [name, value] : whole.number_attributes)
@@ -126,6 +133,34 @@ void OutputFile::complete(const FileLayout& whole) {
       write_number_attribute(s.file.get(), name, value, s.checker);
   s.create_late(whole);
   s.incomplete = false;
+}
+
+// Box by box, as written (output_file.cpp's write_box_by_box says why), converted by HDF5.
+void OutputFile::read(const std::string& name, PointRange range, std::int32_t* out) const {
+  const Impl& s = *impl_;
+  const Impl::Dataset* target = s.find(name);
+  const std::string what = "cannot read dataset '" + name + "' back";
+  if (target == nullptr || target->spec.has_time_dim || range.begin < 0 || range.end > s.points ||
+      range.begin > range.end)
+    fail(s.partial_path, what + ": no such per-point dataset or range");
+  if (range.begin == range.end) return;
+  SpaceHandle file_space(s.checker(H5Dget_space(target->handle.get()), what));
+  if (s.grid_dims.empty()) {  // a single trajectory: its one point
+    const hsize_t one = 1;
+    SpaceHandle mem_space(s.checker(H5Screate_simple(1, &one, nullptr), what));
+    s.checker(H5Dread(target->handle.get(), H5T_NATIVE_INT32, mem_space.get(), file_space.get(),
+                      H5P_DEFAULT, out), what);
+    return;
+  }
+  for (const Box& box : boxes_of({range}, s.grid_dims, false, 0)) {
+    s.checker(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, box.start.data(), nullptr,
+                                  box.count.data(), nullptr), what);
+    SpaceHandle mem_space(s.checker(
+        H5Screate_simple(static_cast<int>(box.count.size()), box.count.data(), nullptr), what));
+    s.checker(H5Dread(target->handle.get(), H5T_NATIVE_INT32, mem_space.get(), file_space.get(),
+                      H5P_DEFAULT, out), what);
+    out += elements_of(box);
+  }
 }
 
 }  // namespace cs

@@ -98,6 +98,15 @@ class OutputFile {
   // Objects are created in the order the one-step constructor creates them.
   void complete(const FileLayout& whole);
 
+  // Optionally before complete(), with the same layout: redefines the datasets as complete()
+  // would, and nothing else, so that `basin` is written, and read back for its statistics, in
+  // its final type before the tables and attributes that hold them are created.
+  void complete_datasets(const FileLayout& whole);
+
+  // The values of a per-point dataset without a time dimension over the points `range`, as
+  // int32 (`basin`'s labels, whatever its type): `out` holds range.end − range.begin values.
+  void read(const std::string& dataset, PointRange range, std::int32_t* out) const;
+
   // Flush, close, sync the file, put it under the final path and sync the directory.
   // Without `replace_existing`, a file already at the final path is never replaced: the commit
   // fails instead (the caller's journal keeps the results).

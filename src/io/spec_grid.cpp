@@ -92,11 +92,11 @@ void SpecReader::check_grid_size(const std::vector<AxisDraft>& drafts) const {
     }
     points *= draft.size();
   }
-  // Before linspace fills anything: the coordinates, and at least one 8-byte result per point
-  // (check_resources in sweep.cpp refines this once the measures are known).
+  // Before linspace fills anything: the coordinates, and at least one byte a point (results
+  // stream into the file as blocks finish; a basin map keeps its compact labels to the end:
+  // check_resources in sweep.cpp refines this once the measures are known).
   double bytes = static_cast<double>(points);
-  for (const AxisDraft& draft : drafts) bytes += static_cast<double>(draft.size());
-  bytes *= sizeof(double);
+  for (const AxisDraft& draft : drafts) bytes += static_cast<double>(draft.size()) * sizeof(double);
   if (const MemoryBudget budget = memory_budget(); bytes > 0.8 * budget.bytes)
     fail(doc_.get("grid"),
          fmt::format("the grid has {} points and needs at least {:.3g} GiB of memory, but {:.3g} "

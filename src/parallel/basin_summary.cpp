@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 
 #include "engine/attractor_continuation.hpp"
+#include "engine/basin_column.hpp"
+#include "engine/strip_statistics.hpp"
 #include "mpi/comm.hpp"
 #include "parallel/undecided_summary.hpp"
 #include "physics/energy_wells.hpp"
@@ -33,45 +35,6 @@ int first_parameter_axis(const RunSpec& spec) {
   for (std::size_t a = 0; a < spec.axes.size(); ++a)
     if (spec.axes[a].is_parameter) return static_cast<int>(a);
   return -1;
-}
-
-// Rank 0: every point's label, in grid order. The other ranks send theirs block by block as
-// labels (4 bytes a point): nothing on any rank holds a second copy of the map as doubles.
-std::vector<BasinLabel> labels_on_rank0(const RunPlan& whole,
-                                         const std::vector<std::unique_ptr<BlockResults>>& results,
-                                         MPI_Comm comm) {
-  const int rank = rank_of(comm);
-  const auto basin = static_cast<std::size_t>(whole.map.basin);
-  std::vector<BasinLabel> labels(rank == 0 ? static_cast<std::size_t>(whole.grid.size()) : 0);
-  if (rank == 0)
-    for (const auto& block : results)
-      std::transform(block->columns[basin].begin(), block->columns[basin].end(),
-                     labels.begin() + block->range.begin,
-                     [](double v) { return static_cast<BasinLabel>(v); });
-  if (serial(comm)) return labels;
-  if (rank != 0) {
-    const auto blocks = static_cast<std::int64_t>(results.size());
-    MPI_Send(&blocks, 1, MPI_INT64_T, 0, 0, comm);
-    std::vector<BasinLabel> mine;
-    for (const auto& block : results) {
-      const std::int64_t range[2] = {block->range.begin, block->range.end};
-      mine.assign(block->columns[basin].begin(), block->columns[basin].end());
-      MPI_Send(range, 2, MPI_INT64_T, 0, 0, comm);
-      MPI_Send(mine.data(), static_cast<int>(mine.size()), MPI_INT32_T, 0, 0, comm);  // a block
-    }                                                                 // is at most 2^20 points
-    return labels;
-  }
-  for (int from = 1; from < size_of(comm); ++from) {
-    std::int64_t blocks = 0;
-    MPI_Recv(&blocks, 1, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
-    for (; blocks > 0; --blocks) {
-      std::int64_t range[2];
-      MPI_Recv(range, 2, MPI_INT64_T, from, 0, comm, MPI_STATUS_IGNORE);
-      MPI_Recv(labels.data() + range[0], static_cast<int>(range[1] - range[0]), MPI_INT32_T, from,
-               0, comm, MPI_STATUS_IGNORE);
-    }
-  }
-  return labels;
 }
 
 // Collective. Whether the energy trap served the lanes (energy_wells.hpp, TrapVerdict), from
@@ -185,6 +148,7 @@ BasinSummary summarise_basins(const RunPlan& whole,
   BasinSummary summary;
   std::vector<double> candidates;
   for (const auto& block : results) {
+    const ExpandedBasin provisional(whole, *block);
     const std::vector<double> c = block_candidates(whole, *block);
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
@@ -200,37 +164,40 @@ BasinSummary summarise_basins(const RunPlan& whole,
                     [&](const Attractor& a) { return a.label >= -limit && a.label <= limit; }))
       break;
   }
-  for (auto& block : results) label_block(whole, summary.table, *block, summary.along);
+  for (auto& block : results) {
+    const ExpandedBasin labels(whole, *block, true);
+    label_block(whole, summary.table, *block, summary.along);
+  }
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
   summary.undecided = undecided_reasons(whole, results, comm);
-  const std::vector<BasinLabel> labels = labels_on_rank0(whole, results, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
-  if (rank_of(comm) != 0) return summary;
-  const BasinMapShape shape = map_shape(whole.spec);
-  summary.statistics = basin_statistics(labels, shape);
-  if (summary.continuation_axis >= 0)
-    summary.continuation = fractions_along(labels, shape, summary.continuation_axis);
-  // The usual layout (the parameter first, the plane last): S_b, S_bb and α per value too.
-  if (summary.continuation_axis == 0 && shape.plane_axes > 0 &&
-      shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1) {
-    BasinMapShape slice = shape;
-    slice.dims.erase(slice.dims.begin());
-    const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
-    for (std::int64_t v = 0; v < shape.dims[0]; ++v)
-      summary.continuation_statistics.push_back(basin_statistics(
-          std::vector<BasinLabel>(labels.begin() + v * cells, labels.begin() + (v + 1) * cells),
-          slice));
-  }
   return summary;
+}
+
+void add_statistics(const RunPlan& whole, BasinSummary& summary, const LabelReader& read) {
+  const BasinMapShape shape = map_shape(whole.spec);
+  StripOptions options;
+  options.fractions_axis = summary.continuation_axis;
+  // The usual layout (the parameter first, the plane last): S_b, S_bb and α per value too.
+  options.per_slice = summary.continuation_axis == 0 && shape.plane_axes > 0 &&
+                      shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1;
+  MapStatistics s = strip_statistics(shape, read, options);
+  summary.statistics = std::move(s.whole);
+  summary.continuation = std::move(s.fractions);
+  summary.continuation_statistics = std::move(s.per_slice);
 }
 
 double summary_bytes_on_rank0(const RunPlan& whole) {
   const BasinMapShape shape = map_shape(whole.spec);
-  double plane = 1.0;
-  for (int a = 0; a < shape.plane_axes; ++a)
-    plane *= static_cast<double>(shape.dims[shape.dims.size() - 1 - static_cast<std::size_t>(a)]);
-  return static_cast<double>(whole.grid.size()) * sizeof(BasinLabel) +
-         plane * (2 * sizeof(std::uint64_t) + 3);
+  if (shape.plane_axes == 0)
+    return static_cast<double>(std::min<std::int64_t>(kStripCells, whole.grid.size())) * sizeof(BasinLabel);
+  const auto columns = shape.dims.back();
+  const std::int64_t rows = shape.plane_axes == 2 ? shape.dims[shape.dims.size() - 2] : 1;
+  const std::int64_t strip = std::max<std::int64_t>(1, kStripCells / columns);
+  // A band and its halos (strip_statistics.cpp): its labels and the two bands ε above and below
+  // it, or, for the Wada test, its labels and two 64-bit masks and three bytes a cell.
+  const auto band = static_cast<double>(std::min(rows, strip + 2 * wada_detail::kHalo) * columns);
+  return band * std::max(3 * sizeof(BasinLabel), sizeof(BasinLabel) + 2 * sizeof(std::uint64_t) + 3);
 }
 
 void add_to_layout(const BasinSummary& basins, const RunPlan& plan, FileLayout& layout) {

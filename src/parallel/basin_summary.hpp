@@ -13,6 +13,7 @@
 #include "engine/attractor_analysis.hpp"
 #include "engine/attractor_table.hpp"
 #include "engine/basin_statistics.hpp"
+#include "engine/strip_statistics.hpp"
 #include "engine/run_plan.hpp"
 
 namespace cs {
@@ -35,18 +36,24 @@ struct BasinSummary {
   // Why lanes ended undecided, where the recurrence mapper runs (the root attribute
   // `basin_undecided`; undecided_summary.hpp); empty otherwise.
   std::string undecided;
-  BasinStatistics statistics;                    // rank 0
+  BasinStatistics statistics;                    // rank 0, after add_statistics
   int continuation_axis = -1;                    // a parameter axis of the grid, if any
   std::vector<std::map<int, double>> continuation;  // rank 0: fractions per value of that axis
   std::vector<BasinStatistics> continuation_statistics;  // rank 0: per value, if it is axis 0
 };
 
-// Collective. Labels every block of `results` (they hold provisional labels until then).
+// Collective. Labels every block of `results` (they hold provisional labels until then); the
+// statistics are left to add_statistics.
 BasinSummary summarise_basins(const RunPlan& whole,
                               std::vector<std::unique_ptr<BlockResults>>& results, MPI_Comm comm);
 
-// Rank 0's memory for the statistics of the whole map, at the end: every point's label and the
-// Wada test's work on one plane of initial conditions (two 64-bit masks and three bytes a cell).
+// Rank 0, once `basin` is in the file: the statistics of the whole map (S_b, S_bb, α, the Wada
+// test, the fractions along the continuation axis and per value), from its labels read a band
+// of rows at a time (engine/strip_statistics.hpp).
+void add_statistics(const RunPlan& whole, BasinSummary& summary, const LabelReader& read);
+
+// Rank 0's memory for the statistics of the whole map, at the end: one band of the plane and
+// its halos (add_statistics), not the map.
 double summary_bytes_on_rank0(const RunPlan& whole);
 
 // The attractor table along a dimension `attractor`, the fractions along the continuation axis

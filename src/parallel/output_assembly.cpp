@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 
+#include "engine/basin_column.hpp"
 #include "formula/custom_scene.hpp"
 #include "io/output_file.hpp"
 #include "mpi/agreement.hpp"
@@ -90,11 +91,12 @@ constexpr std::size_t kMessageElements = std::size_t{1} << 27;
 
 // Block by block, straight from the results: no rank holds a second copy of a column (the
 // memory check counts the results once).
-void send_column(const std::vector<std::unique_ptr<BlockResults>>& results, std::size_t k,
-                 MPI_Comm comm) {
+void send_column(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,
+                 std::size_t k, MPI_Comm comm) {
   auto blocks = static_cast<std::int64_t>(results.size());
   MPI_Send(&blocks, 1, MPI_INT64_T, 0, 0, comm);
   for (const auto& block : results) {
+    const ExpandedBasin labels(plan, *block);  // `basin`: held compact (basin_column.hpp)
     const std::vector<double>& values = block->columns[k];
     std::int64_t header[3] = {block->range.begin, block->range.end,
                               static_cast<std::int64_t>(values.size())};
@@ -202,19 +204,22 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
       file.reset();  // removes the temporary file
     }
   };
+  // `basin` in its final type first: its statistics are read back from the file.
   if (rank == 0)
-    attempt([&] { file->complete(make_layout(plan, options, output.ranks, output.threads)); });
+    attempt([&] { file->complete_datasets(make_layout(plan, options, output.ranks, output.threads)); });
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const DatasetSpec dataset = written_dataset(plan, options, k);
     if (plan.columns[k].internal || is_streamed(plan, k)) continue;
     if (rank != 0) {
-      send_column(results, k, comm);
+      send_column(plan, results, k, comm);
       continue;
     }
     std::optional<ColumnBatch> batch;
     attempt([&] { batch.emplace(*file, dataset); });
-    for (const auto& block : results)
+    for (const auto& block : results) {
+      const ExpandedBasin labels(plan, *block);
       attempt([&] { batch->add(block->range, block->columns[k]); });
+    }
     attempt([&] { batch->flush(); });  // one batch per rank: ranges ascend within it
     for (int from = 1; from < ranks; ++from) {
       for (std::int64_t b = receive_block_count(from, comm); b > 0; --b) {
@@ -225,6 +230,10 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
     }
   }
   if (rank == 0) {
+    attempt([&] {
+      if (options.statistics) options.statistics(*file);
+      file->complete(make_layout(plan, options, output.ranks, output.threads));
+    });
     attempt([&] {
       if (options.before_commit) options.before_commit();
       file->commit(options.replace_existing);

@@ -36,6 +36,9 @@ struct OutputOptions {
   bool replace_existing = false;  // --force: the commit may replace a file at `path`
   std::function<void()> before_commit;  // test hook: runs on rank 0 with the file written
   const BasinSummary* basins = nullptr;  // the attractor table and statistics, with `basin`
+  // Rank 0, with `basin` written and before the layout is completed: computes the statistics
+  // `basins` holds from the file (basin_summary.hpp, add_statistics).
+  std::function<void(const OutputFile&)> statistics;
 };
 
 // Before any work: throws InputError if the file would give one name to two of its datasets
@@ -57,7 +60,8 @@ void open_output(const RunPlan& plan, const OutputOptions& options, OpenOutput& 
 std::vector<BlockStream::Column> streamed_columns(const RunPlan& plan);
 
 // Collective. Writes what the stream did not (`basin`, from `results`: this rank's blocks in
-// ascending order of their points), the attractor table and statistics, then commits. Throws a
+// ascending order of their points), then on rank 0 the statistics read back from it
+// (options.statistics), the attractor table and statistics, then commits. Throws a
 // CollectiveError on every rank when the file could not be written; no file is then left
 // under either name.
 void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockResults>>& results,

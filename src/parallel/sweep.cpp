@@ -18,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/basin_column.hpp"
 #include "engine/fixed_point_exponent.hpp"
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
@@ -109,8 +110,8 @@ double file_bytes(const RunPlan& plan) {
 }
 
 // What a rank holds, in doubles: the columns written as blocks finish only while the blocks are
-// in flight; `basin` and the basin summary's internal columns for each of its blocks until the
-// end (a per-block column counted once per block).
+// in flight; `basin` (compact) and the basin summary's internal columns for each of its blocks
+// until the end (a per-block column counted once per block).
 struct HeldValues {
   double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
 };
@@ -121,8 +122,9 @@ HeldValues held_values(const RunPlan& plan) {
     held.per_point_in_flight += static_cast<double>(column.width);
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const ColumnSpec& column = plan.columns[k];
-    const bool kept = column.internal || static_cast<int>(k) == plan.map.basin;
-    if (!kept) continue;
+    // `basin` is held compact (engine/basin_column.hpp): at most 4 bytes a point, half a double.
+    if (static_cast<int>(k) == plan.map.basin) held.per_point_kept += 0.5 * static_cast<double>(column.width);
+    if (!column.internal) continue;
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
     else held.per_point_kept += static_cast<double>(column.width);
   }
@@ -164,8 +166,8 @@ std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0
 // Collective. Refuses, before any work, a run whose results cannot fit. A rank holds its blocks
 // in flight (being computed by its threads, queued for the journal, queued for the output: at
 // most about two per thread and the journal's queue) and, on a basin map, each block's labels
-// and internal columns until the end; rank 0 also gathers the whole map's labels for the
-// statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
+// (compact: engine/basin_column.hpp) and internal columns until the end; rank 0 also reads one
+// band of the map back from the file at a time for the statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
 // budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,
                      std::int64_t block_size, std::int64_t blocks,
@@ -346,7 +348,10 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   JournalWriter journal_writer(
       journal, [&](std::int64_t saved) { test_kill_point("block", c.rank, saved); },
       [&] { watch.report_failure(); },  // no thread of any rank starts another block
-      [&](const BlockResults& saved) { stream.add(const_cast<BlockResults&>(saved)); });
+      [&](const BlockResults& saved) {
+        compact_basin(plan, const_cast<BlockResults&>(saved));  // saved: held compact from now
+        stream.add(const_cast<BlockResults&>(saved));
+      });
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     if (!watch.stop() && !stop_requested()) {
@@ -358,6 +363,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         if (!loaded) run_block(*blocks[i].plan, *results[i]);
         count_statuses(*results[i], plan.map.status, statuses);
         if (loaded) {
+          compact_basin(plan, *results[i]);
           stream.add(*results[i]);
         } else {
           journal_writer.submit(*results[i]);
@@ -418,6 +424,13 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
         gib(file_bytes(plan)));
   // A failure here is thrown on every rank; the journal stays for --resume.
   output_options.basins = basins ? &*basins : nullptr;
+  if (basins)
+    output_options.statistics = [&](const OutputFile& file) {
+      const std::string name = plan.columns[static_cast<std::size_t>(plan.map.basin)].dataset.name;
+      add_statistics(plan, *basins, [&](std::int64_t begin, std::int64_t end, BasinLabel* out) {
+        file.read(name, {begin, end}, out);
+      });
+    };
   write_output(plan, results, output_options, output, comm);
   test_kill_point("commit", c.rank);
   if (c.rank == 0) remove_finished_journal(journal);

@@ -1,5 +1,7 @@
 #include "parallel/undecided_summary.hpp"
 
+#include "engine/basin_column.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -16,6 +18,7 @@ std::string undecided_reasons(const RunPlan& whole,
   if (whole.map.undecided_reason < 0) return "";
   std::int64_t counts[kUndecidedReasons] = {};
   for (const auto& block : results) {
+    const ExpandedBasin provisional(whole, *block);
     const auto& labels = block->columns[static_cast<std::size_t>(whole.map.basin)];
     const auto& reasons = block->columns[static_cast<std::size_t>(whole.map.undecided_reason)];
     for (std::size_t i = 0; i < labels.size(); ++i) {

@@ -1,0 +1,271 @@
+#include "engine/strip_statistics.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "engine/wada_test.hpp"
+
+namespace cs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Cells per label, in an array from the lowest label met (labels are few and close together:
+// -1 to the number of attractors, as in basin_statistics).
+class LabelCounts {
+ public:
+  void add(BasinLabel label, std::int64_t n = 1) {
+    if (counts_.empty()) lowest_ = label;
+    if (label < lowest_) {
+      counts_.insert(counts_.begin(), static_cast<std::size_t>(std::int64_t{lowest_} - label), 0);
+      lowest_ = label;
+    }
+    const auto k = static_cast<std::size_t>(std::int64_t{label} - lowest_);
+    if (k >= counts_.size()) counts_.resize(k + 1, 0);
+    counts_[k] += n;
+  }
+  template <class F>
+  void each(F f) const {
+    for (std::size_t k = 0; k < counts_.size(); ++k)
+      if (counts_[k] > 0) f(static_cast<int>(lowest_ + static_cast<BasinLabel>(k)), counts_[k]);
+  }
+
+ private:
+  BasinLabel lowest_ = 0;
+  std::vector<std::int64_t> counts_;
+};
+
+// One map's statistics as its bands come (the whole map, or one slice of it).
+struct Tally {
+  LabelCounts cells;
+  std::int64_t points = 0;
+  double sum = 0.0, boundary_sum = 0.0;  // entropies, added box by box in order
+  std::int64_t boxes = 0, boundary_boxes = 0;
+  std::vector<std::int64_t> eps_cells, eps_uncertain;
+  WadaTest wada;
+};
+
+BasinStatistics finish(const Tally& t, int plane_axes, const std::vector<int>& eps) {
+  BasinStatistics out;
+  out.points = t.points;
+  t.cells.each([&](int label, std::int64_t n) { out.cells[label] = n; });
+  if (plane_axes == 0) {
+    out.basin_entropy = out.boundary_basin_entropy = kNaN;
+    out.uncertainty_exponent = out.boundary_dimension = kNaN;
+    return out;
+  }
+  out.boxes = t.boxes;
+  out.boundary_boxes = t.boundary_boxes;
+  out.basin_entropy = t.boxes > 0 ? t.sum / static_cast<double>(t.boxes) : kNaN;
+  out.boundary_basin_entropy =
+      t.boundary_boxes > 0 ? t.boundary_sum / static_cast<double>(t.boundary_boxes) : kNaN;
+  out.epsilon_cells = eps;
+  for (std::size_t k = 0; k < eps.size(); ++k)
+    out.uncertain_fraction.push_back(
+        t.eps_cells[k] > 0
+            ? static_cast<double>(t.eps_uncertain[k]) / static_cast<double>(t.eps_cells[k])
+            : kNaN);
+  out.uncertainty_exponent = basin_detail::log_log_slope(out.epsilon_cells, out.uncertain_fraction);
+  out.boundary_dimension = plane_axes - out.uncertainty_exponent;
+  out.wada = t.wada;
+  return out;
+}
+
+void add_wada(WadaTest& to, const WadaTest& from) {
+  to.boundary_cells += from.boundary_cells;
+  to.touching_all += from.touching_all;
+  if (!from.covered.empty()) to.covered.resize(kWadaMaxRadius, 0);
+  for (std::size_t r = 0; r < from.covered.size(); ++r) to.covered[r] += from.covered[r];
+  to.planes_tested += from.planes_tested;
+  to.planes_too_many += from.planes_too_many;
+}
+
+class StripPass {
+ public:
+  StripPass(const BasinMapShape& shape, const LabelReader& read, const StripOptions& options)
+      : shape_(shape), read_(read), options_(options) {
+    const auto n = shape.dims.size();
+    const auto first_plane_axis = n - static_cast<std::size_t>(shape.plane_axes);
+    for (std::size_t a = 0; a < first_plane_axis; ++a) slices_ *= shape.dims[a];
+    if (shape.plane_axes >= 1) columns_ = shape.dims[n - 1];
+    if (shape.plane_axes == 2) rows_ = shape.dims[n - 2];
+    if (shape.plane_axes > 0) {
+      const std::int64_t side = shape.plane_axes == 2 ? std::min(rows_, columns_) : columns_;
+      for (std::int64_t e = 1; 8 * e <= side; e *= 2) eps_.push_back(static_cast<int>(e));
+    }
+    strip_ = options.strip_rows > 0 ? options.strip_rows
+                                    : std::max<std::int64_t>(1, kStripCells / std::max<std::int64_t>(columns_, 1));
+    if (options.fractions_axis >= 0) {
+      stride_ = 1;
+      for (std::size_t a = static_cast<std::size_t>(options.fractions_axis) + 1; a < n; ++a)
+        stride_ *= shape.dims[a];
+      values_ = shape.dims[static_cast<std::size_t>(options.fractions_axis)];
+      along_.resize(static_cast<std::size_t>(values_));
+    }
+    if (options.per_slice) per_slice_.resize(static_cast<std::size_t>(slices_));
+    whole_.eps_cells.assign(eps_.size(), 0);
+    whole_.eps_uncertain.assign(eps_.size(), 0);
+    for (Tally& t : per_slice_) t.eps_cells = t.eps_uncertain = whole_.eps_cells;
+  }
+
+  MapStatistics run() {
+    if (shape_.plane_axes == 0) {
+      count_flat();
+    } else {
+      for (std::int64_t s = 0; s < slices_; ++s) slice(s);
+    }
+    MapStatistics out;
+    out.whole = finish(whole_, shape_.plane_axes, eps_);
+    for (const Tally& t : per_slice_) out.per_slice.push_back(finish(t, shape_.plane_axes, eps_));
+    for (std::size_t v = 0; v < along_.size(); ++v) {
+      std::map<int, double> f;
+      std::int64_t total = 0;
+      along_[v].each([&](int label, std::int64_t n) { f[label] = static_cast<double>(n), total += n; });
+      for (auto& [label, x] : f) x /= static_cast<double>(total);  // sums of 1.0: exact counts
+      out.fractions.push_back(std::move(f));
+    }
+    return out;
+  }
+
+ private:
+  std::int64_t flat(std::int64_t slice, std::int64_t row) const { return (slice * rows_ + row) * columns_; }
+
+  // Rows [first, end) of a slice, into `band`.
+  void read_rows(std::int64_t slice, std::int64_t first, std::int64_t end, std::vector<BasinLabel>& band) const {
+    band.resize(static_cast<std::size_t>((end - first) * columns_));
+    if (end > first) read_(flat(slice, first), flat(slice, end), band.data());
+  }
+
+  void count_cells(const BasinLabel* labels, std::int64_t begin, std::int64_t end, Tally* slice) {
+    for (std::int64_t i = begin; i < end; ++i) {
+      const BasinLabel l = labels[i - begin];
+      whole_.cells.add(l);
+      if (slice) slice->cells.add(l);
+      if (values_ > 0) along_[static_cast<std::size_t>((i / stride_) % values_)].add(l);
+    }
+    whole_.points += end - begin;
+    if (slice) slice->points += end - begin;
+  }
+
+  void count_flat() {
+    const std::int64_t points = slices_;
+    std::vector<BasinLabel> chunk;
+    for (std::int64_t begin = 0; begin < points; begin += kStripCells) {
+      const std::int64_t end = std::min(points, begin + kStripCells);
+      chunk.resize(static_cast<std::size_t>(end - begin));
+      read_(begin, end, chunk.data());
+      count_cells(chunk.data(), begin, end, per_slice_.empty() ? nullptr : &per_slice_[0]);
+    }
+  }
+
+  void slice(std::int64_t s) {
+    Tally* mine = per_slice_.empty() ? nullptr : &per_slice_[static_cast<std::size_t>(s)];
+    std::vector<BasinLabel> band, above, below;
+    std::vector<std::int32_t> basins;
+    const bool plane = shape_.plane_axes == 2;
+    const std::int64_t box_rows = plane ? 5 : 1;  // BasinStatistics::box_cells
+    for (std::int64_t first = 0; first < rows_; first += strip_) {
+      const std::int64_t end = std::min(rows_, first + strip_);
+      // The band: its rows and those its last boxes reach below it.
+      const std::int64_t band_end = std::min(rows_, end + box_rows - 1);
+      read_rows(s, first, band_end, band);
+      count_cells(band.data(), flat(s, first), flat(s, end), mine);
+      if (plane) wada_detail::collect_basins(band.data(), static_cast<std::size_t>((end - first) * columns_), basins);
+      boxes(band.data(), first, end, box_rows, mine);
+      for (std::size_t k = 0; k < eps_.size(); ++k) uncertain(s, k, band, first, end, above, below, mine);
+    }
+    if (!plane) return;
+    std::sort(basins.begin(), basins.end());
+    basins.erase(std::unique(basins.begin(), basins.end()), basins.end());
+    if (basins.size() < 3) return;
+    WadaTest wada;
+    if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) {
+      wada.planes_too_many = 1;
+    } else {
+      wada.planes_tested = 1;
+      for (std::int64_t first = 0; first < rows_; first += strip_) {
+        const std::int64_t end = std::min(rows_, first + strip_);
+        const std::int64_t band_first = std::max<std::int64_t>(0, first - wada_detail::kHalo);
+        read_rows(s, band_first, std::min(rows_, end + wada_detail::kHalo), band);
+        wada_detail::count_rows(band.data(), band_first, rows_, columns_, first, end, basins, wada);
+      }
+    }
+    add_wada(whole_.wada, wada);
+    if (mine) add_wada(mine->wada, wada);
+  }
+
+  // The boxes whose first row is in [first, end), in basin_statistics's order.
+  void boxes(const BasinLabel* band, std::int64_t first, std::int64_t end, std::int64_t box_rows, Tally* mine) {
+    const std::int64_t e = 5;
+    for (std::int64_t r0 = (first + box_rows - 1) / box_rows * box_rows; r0 < end && r0 + box_rows <= rows_; r0 += box_rows)
+      for (std::int64_t c0 = 0; c0 + e <= columns_; c0 += e) {
+        basin_detail::BoxCounts box;
+        for (std::int64_t r = r0; r < r0 + box_rows; ++r)
+          for (std::int64_t c = c0; c < c0 + e; ++c) box.add(band[(r - first) * columns_ + c]);
+        const double entropy = box.entropy(static_cast<int>(box_rows * e));
+        for (Tally* t : {&whole_, mine}) {
+          if (!t) continue;
+          t->sum += entropy;
+          ++t->boxes;
+          if (box.counts.size() > 1) t->boundary_sum += entropy, ++t->boundary_boxes;
+        }
+      }
+  }
+
+  // The rows [first, end) of a slice, from the band when it holds them, else read.
+  const BasinLabel* rows_at(std::int64_t s, std::int64_t from, std::int64_t to,
+                            const std::vector<BasinLabel>& band, std::int64_t band_first,
+                            std::vector<BasinLabel>& scratch) const {
+    const std::int64_t band_end = band_first + static_cast<std::int64_t>(band.size()) / std::max<std::int64_t>(columns_, 1);
+    if (from >= band_first && to <= band_end) return band.data() + (from - band_first) * columns_;
+    read_rows(s, from, to, scratch);
+    return scratch.data();
+  }
+
+  // Cells of rows [first, end) with every neighbour ε away inside the plane: uncertain if one
+  // of them differs (basin_statistics's uncertain_fraction, as counts).
+  void uncertain(std::int64_t s, std::size_t k, const std::vector<BasinLabel>& band, std::int64_t first,
+                 std::int64_t end, std::vector<BasinLabel>& above, std::vector<BasinLabel>& below, Tally* mine) {
+    const std::int64_t eps = eps_[k];
+    const bool plane = shape_.plane_axes == 2;
+    const std::int64_t row_eps = plane ? eps : 0;
+    const std::int64_t from = std::max(first, row_eps), to = std::min(end, rows_ - row_eps);
+    if (from >= to || columns_ - eps <= eps) return;
+    const BasinLabel* here = band.data() + (from - first) * columns_;
+    const BasinLabel* up = plane ? rows_at(s, from - eps, to - eps, band, first, above) : nullptr;
+    const BasinLabel* down = plane ? rows_at(s, from + eps, to + eps, band, first, below) : nullptr;
+    std::int64_t cells = 0, uncertain = 0;
+    for (std::int64_t r = 0; r < to - from; ++r)
+      for (std::int64_t c = eps; c < columns_ - eps; ++c) {
+        const std::int64_t i = r * columns_ + c;
+        bool differs = here[i - eps] != here[i] || here[i + eps] != here[i];
+        if (plane) differs = differs || up[i] != here[i] || down[i] != here[i];
+        ++cells;
+        uncertain += differs;
+      }
+    for (Tally* t : {&whole_, mine}) {
+      if (!t) continue;
+      t->eps_cells[k] += cells;
+      t->eps_uncertain[k] += uncertain;
+    }
+  }
+
+  const BasinMapShape& shape_;
+  const LabelReader& read_;
+  StripOptions options_;
+  std::int64_t slices_ = 1, rows_ = 1, columns_ = 1, strip_ = 1;
+  std::vector<int> eps_;
+  std::int64_t stride_ = 1, values_ = 0;
+  std::vector<LabelCounts> along_;
+  Tally whole_;
+  std::vector<Tally> per_slice_;
+};
+
+}  // namespace
+
+MapStatistics strip_statistics(const BasinMapShape& shape, const LabelReader& read,
+                               const StripOptions& options) {
+  return StripPass(shape, read, options).run();
+}
+
+}  // namespace cs
