@@ -29,7 +29,7 @@ class LyapunovLanes {
   void seed(int, const LaneState<S::dof>&, const ParamsOf<S, double>&) {}
   void clear(bool, int) {}
   void move(int, int) {}
-  void finish(int, LaneBook<S::dof>&, LaneStatus) {}
+  void finish(int, LaneBook<S::dof>&, LaneStatus, double) {}
 };
 
 template <Scene S, class Method, Carry carry, int W>
@@ -98,6 +98,18 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
         });
   }
 
+  // An adaptive method's tile t (main or finisher) makes `steps` attempts, its tangents with it
+  // (AdaptiveTangent); on_dense as advance_adaptive takes it. No stop and no observe_window
+  // here: their times fall between two steps, where the tangent has no dense output
+  // (spec_integrator.cpp refuses them with lyapunov).
+  template <bool Uniform, class OnDense>
+  void advance_adaptive_tile(Tile& t, bool main, int steps, const Params& uniform,
+                             OnDense&& on_dense) {
+    AdaptiveTangent<S, W> tangent{main ? main_ : fin_};
+    advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, nullptr,
+                                                tangent);
+  }
+
   // A lane in `slot` stepped again from the chunk's start (base) to its stop: its tangent from
   // the snapshot, and no marks past base (the tile's advance ran on past the stop).
   void rerun_begin(int slot, std::int64_t base) {
@@ -118,14 +130,18 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
     (slot < W ? main_ : fin_).set_lane(slot % W, rerun_);
   }
 
-  // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps. NaN where the lane
-  // failed or its interval is empty; a healthy lane whose exponent is not finite is flagged
-  // through its book (LaneWriter then writes non_finite_output).
-  void finish(int lane_slot, LaneBook<D>& b, LaneStatus status) {
+  // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps, at time t_lane.
+  // NaN where the lane failed or its interval is empty; a healthy lane whose exponent is not
+  // finite is flagged through its book (LaneWriter then writes non_finite_output). An adaptive
+  // lane's interval is [t_start, t_lane], its own time; a fixed-step lane's n·h.
+  void finish(int lane_slot, LaneBook<D>& b, LaneStatus status, double t_lane) {
     double value = std::numeric_limits<double>::quiet_NaN();
     if (status == LaneStatus::ok && b.n > 0) {
       const LaneTangent<D> w = lane_slot < W ? main_.lane(lane_slot) : fin_.lane(lane_slot - W);
-      if (!window_) {
+      if (adaptive_method<Method>()) {
+        value = lyapunov_value_over<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0,
+                                               t_lane - plan_.spec.t_start);
+      } else if (!window_) {
         value = lyapunov_value<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0, b.n,
                                           plan_.spec.h);
       } else {
