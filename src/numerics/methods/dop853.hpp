@@ -23,8 +23,10 @@
 // order 7 of its accepted step (numerics/dop853_dense.hpp, built from the 12 stage rates and
 // four more evaluations, only for a step that holds a sample).
 //
-// `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits
-// and the tangent kernels, which step at the spec's h, use.
+// `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits,
+// which step at the spec's h, use. The lyapunov measure's tangent runs in the adaptive steps'
+// own stages (`stage` on duals, `advance_tangent`: engine/measures/tangent_tile.hpp's
+// AdaptiveTangent), its error not controlled.
 #pragma once
 
 #include <cmath>
