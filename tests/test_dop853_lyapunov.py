@@ -29,6 +29,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+import chaotic_duffing  # noqa: E402
 from contactsweep_runs import Runs, read  # noqa: E402
 from damped_oscillator import expm, generator  # noqa: E402
 
@@ -93,13 +94,9 @@ for label, omega, gamma in [("underdamped", 1.0, 0.1), ("overdamped", 1.0, 3.0)]
               f"{gaps[1e-6]:.3g} -> {gaps[1e-9]:.3g}")
 
 # ---- the chaotic forced Duffing: dop853 against rk4 and the reference ---------------------------
-DUFFING_REFERENCE, DUFFING_REFERENCE_STD, DUFFING_REFERENCE_N = 0.10514, 0.0062, 8
-DUFFING = """[scene]
-K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
-delta = 0.3
-F = 0.5
-Omega = 1.2
-[integrator]
+DUFFING_REFERENCE, DUFFING_REFERENCE_STD, DUFFING_REFERENCE_N = (
+    chaotic_duffing.REFERENCE, chaotic_duffing.REFERENCE_STD, chaotic_duffing.REFERENCE_N)
+DUFFING = chaotic_duffing.SCENE.replace("{", "{{").replace("}", "}}") + """[integrator]
 {integrator}
 t_end = {t!r}
 [grid]
