@@ -15,6 +15,8 @@ method"), end to end through the CLI:
   within ln(cond V)/T of the largest exponent: -gamma/2 underdamped (a complex pair, so the
   spectrum (-gamma/2, -gamma/2) sums to -gamma, the trace of the (q, p) Jacobian, the phase-space
   contraction rate), (-gamma + sqrt(gamma^2 - 4 w^2))/2 overdamped.
+* Scene B (K_z = -2 gamma z: z feeds back, the tangent carries dz): the exponent equals the
+  growth of the central difference of the final (q, p, z) within its own error.
 * Chaotic forced Duffing (K-defined): the mean over 9 lanes agrees with rk4's at h = 0.005 from
   the same points, within four standard errors of the two means plus the transient's share
   (tests/test_lyapunov.py's tolerance); and with tests/reference/duffing_lyapunov.py's reference.
@@ -92,6 +94,42 @@ for label, omega, gamma in [("underdamped", 1.0, 0.1), ("overdamped", 1.0, 3.0)]
         check(f"{label}: the exponent's error falls with rtol (three decades, at least two)",
               gaps[1e-9] <= gaps[1e-6] / 100 or gaps[1e-9] <= 1e-14,
               f"{gaps[1e-6]:.3g} -> {gaps[1e-9]:.3g}")
+
+# ---- scene B, where z feeds back: the tangent (dq, dp, dz) against a central difference ----------
+# K = p^2/2 + w^2 q^2/2 - gamma z^2: K_z = -2 gamma z, so the tangent carries dz too. Lanes at
+# (q0 +- eps, p0 +- eps) give the central difference D = (y(+) - y(-)) / (2 eps) of the final
+# (q, p, z) along the default tangent (1, 1, 0); (1/T) ln(|D| / sqrt 2) is the exponent up to
+# the difference's own error, relative: eps^2 (truncation) + 1e-16 / eps (rounding) + the
+# steps' dependence on the start that the tangent leaves out (h is not differentiated: each
+# step's error, <= rtol, changes with the start, N rtol over N ~ 100 steps): 1e-7 at eps = 1e-5,
+# rtol = 1e-10, with a margin of 10 over the largest term.
+EPS, Q0, P0, T_B = 1e-5, 0.5, 0.3, 5.0
+SCENE_B = f"""[scene]
+name = "z2_damping"
+[initial]
+z = 0.8
+[integrator]
+method = "dop853"
+rtol = 1e-10
+atol = 1e-12
+h = 0.1
+t_end = {T_B!r}
+[grid]
+q_0 = {{ values = [{Q0 - EPS!r}, {Q0!r}, {Q0 + EPS!r}] }}
+p_0 = {{ values = [{P0 - EPS!r}, {P0!r}, {P0 + EPS!r}] }}
+[measures]
+final_state = {{ vars = ["q", "p", "z"] }}
+lyapunov = {{}}
+"""
+f = runs.run(SCENE_B, "z2_damping_difference")
+if f:
+    lyap = f["lyapunov"][...]
+    y = np.stack([f[n][...] for n in ("final_q", "final_p", "final_z")])
+    difference = (y[:, 2, 2] - y[:, 0, 0]) / (2 * EPS)
+    by_difference = math.log(np.linalg.norm(difference) / math.sqrt(2.0)) / T_B
+    gap = abs(lyap[1, 1] - by_difference)
+    check("scene B (z feeds back): lyapunov is the central difference's growth within 1e-7 / T",
+          gap <= 1e-7 / T_B, f"{lyap[1, 1]!r} vs {by_difference!r}: {gap:.3g}")
 
 # ---- the chaotic forced Duffing: dop853 against rk4 and the reference ---------------------------
 DUFFING_REFERENCE, DUFFING_REFERENCE_STD, DUFFING_REFERENCE_N = (
