@@ -21,8 +21,11 @@ method"), end to end through the CLI:
   the same points, within four standard errors of the two means plus the transient's share
   (tests/test_lyapunov.py's tolerance); and with tests/reference/duffing_lyapunov.py's reference.
 * Same bits for 1x1, 1x2, 2x1 ranks x threads on a forced Duffing basin map (stroboscopic, the
-  lanes stopping early) with lyapunov; every other dataset the same bits as without it.
-* Refused (exit 2, the pair named at integrator.method, nothing written): lyapunov with stop, with observe_window.
+  lanes stopping early, a stop condition) with lyapunov; every other dataset the same bits as without it.
+* The stop: scene A's lane from (1, 1) stops where q < 0; its tangent at the stop, read on the
+  step's continuous extension, is the interpolated state: lyapunov = (1/t_s) ln(|y(t_s)|/sqrt 2).
+* Refused (exit 2, the pair named at integrator.method, nothing written): lyapunov with
+  observe_window.
 """
 import math
 import os
@@ -185,6 +188,7 @@ p_0 = { from = -2.0, to = 2.0, n = 20 }
 [measures]
 final_state = { vars = ["q", "p"] }
 basin = { period = 5.0 }
+stop = { when = "q > 1.5" }
 """
 outputs = []
 for ranks, threads in ((1, 1), (1, 2), (2, 1)):
@@ -196,20 +200,47 @@ runs.same_bits("forced Duffing basin map with lyapunov: 1x1, 1x2, 2x1 give the s
                *outputs, count=3)
 plain, _ = runs.launch(MAP, "map_without")
 if outputs and plain:
-    names = ("final_q", "final_p", "basin", "attractor_q", "attractor_p")
+    names = ("final_q", "final_p", "basin", "attractor_q", "attractor_p", "stop_time")
     with_l, without = read(outputs[0], *names), read(plain, *names)
     check("final state, basin and attractors: the same bits with and without lyapunov",
           all(np.array_equal(x, y, equal_nan=True) for x, y in zip(with_l, without)))
     (lyap,) = read(outputs[0], "lyapunov")
-    # Every lane settles on a period-T orbit (the map's two attractors are stable cycles): its
-    # exponent over [t_start, the settling time] is finite; negative on average.
-    check("basin map: every lane's exponent finite, their mean negative (stable cycles)",
-          np.isfinite(lyap).all() and lyap.mean() < 0, f"mean {lyap.mean():.4f}")
+    (stop_time,) = read(outputs[0], "stop_time")
+    # Every lane settles on a period-T orbit (the map's two attractors are stable cycles) or
+    # stops: its exponent over [t_start, the settling or stop time] is finite, negative on
+    # average; NaN exactly where the lane stopped at t_start (q_0 > 1.5: no interval).
+    at_start = stop_time == 0.0
+    later = ~at_start
+    check("basin map with a stop: lanes stop later and at t_start; the exponent NaN exactly "
+          "at t_start, finite elsewhere, negative on average (stable cycles)",
+          (np.isfinite(stop_time) & later).any() and at_start.any()
+          and np.isnan(lyap[at_start]).all() and np.isfinite(lyap[later]).all()
+          and lyap[later].mean() < 0,
+          f"{(np.isfinite(stop_time) & later).sum()} stopped later, {at_start.sum()} at t_start, "
+          f"mean {lyap[later].mean():.4f}")
+
+# ---- the stop: the tangent at the stop's time, on the step's continuous extension --------------
+# Scene A from (1, 1), stopping where q < 0 first holds: as above the tangent (1, 1) is the
+# state, so lyapunov over [0, stop_time] is (1/t_s) ln(|y(t_s)| / sqrt 2), y(t_s) the final state
+# (the state interpolated at the stop), to rounding; and t_s is the closed form's first zero of
+# q within 10 rtol.
+STOP_A = OSCILLATOR.format(omega=1.0, gamma=0.1, rtol=1e-9, atol=1e-15, t_end=10.0) + \
+    'stop = { when = "q < 0" }\n'
+f = runs.run(STOP_A, "oscillator_stop")
+if f:
+    lyap, q, p, t_s = (f[n][...].ravel()[0] for n in ("lyapunov", "final_q", "final_p",
+                                                       "stop_time"))
+    own = math.log(math.hypot(q, p) / math.sqrt(2.0)) / t_s
+    w_d = math.sqrt(1.0 - 0.1**2 / 4)
+    # q(t) = e^{-gt/2} (cos w_d t + (1 + g/2) / w_d sin w_d t): its first zero
+    t_zero = (math.pi - math.atan(w_d / (1.0 + 0.05))) / w_d
+    check("stop: lyapunov over [0, stop_time] is the interpolated state's own growth",
+          abs(lyap - own) <= 1e-12 and abs(t_s - t_zero) <= 10 * 1e-9,
+          f"{lyap!r} vs {own!r}; t_s {t_s!r} vs {t_zero!r}")
 
 # ---- refused -----------------------------------------------------------------------------------
 BASE = OSCILLATOR.format(omega=1.0, gamma=0.1, rtol=1e-8, atol=1e-8, t_end=10.0)
 for label, extra, key in [
-    ("stop", 'stop = { when = "q < 0" }', "measures.lyapunov with measures.stop"),
     ("observe_window", 'observe = { E = "p^2/2 + q^2/2" }\nobserve_window = { from = 1.0, to = 5.0 }',
      "measures.lyapunov with measures.observe_window"),
 ]:

@@ -183,10 +183,16 @@ class BlockRunner {
     std::int64_t base[W];  // the lanes' step counts
     if constexpr (kFormulas || carry.tangent)
       for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done(i) : fin_book_[i].n;
-    if constexpr (carry.tangent && kAdaptive) {  // no stop, no window (spec_integrator.cpp)
-      lyapunov_.template advance_adaptive_tile<Uniform>(
-          t, which == 0, steps, uniform_params_,
-          [&](int i, const auto& dense) { dense_step(t, i, dense); });
+    if constexpr (carry.tangent && kAdaptive) {  // no window (spec_integrator.cpp)
+      auto on_dense = [&](int i, const auto& dense) { dense_step(t, i, dense); };
+      if constexpr (Formulas::stop) {
+        lyapunov_.template advance_adaptive_tile<Uniform>(
+            t, which == 0, steps, uniform_params_, on_dense,
+            [&](int i) { return formulas_.stops_now(t, i); });
+      } else {
+        lyapunov_.template advance_adaptive_tile<Uniform>(t, which == 0, steps, uniform_params_,
+                                                          on_dense, nullptr);
+      }
     } else if constexpr (carry.tangent) {
       bool hooks = false;
       if constexpr (kFormulas) hooks = formulas_.before_advance(t, which, base, steps);

@@ -173,7 +173,8 @@ template <Scene S, Carry carry, class Method, int W>
 // With `watch` (the stop: engine/measures/observables.hpp) every lane keeps its state before
 // each step, and a lane whose accepted step ends where watch(i) holds gets on_dense(i, d) too.
 // With `tangent` (engine/measures/tangent_tile.hpp's AdaptiveTangent: the lyapunov measure)
-// each stage runs with its tangent, and an accepted step moves the tangent too.
+// each stage runs with its tangent, and an accepted step moves the tangent too (and builds its
+// continuous extension with the tangent's, for a stop inside it).
 template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep,
           class OnDense = std::nullptr_t, class Watch = std::nullptr_t,
           class TangentHook = std::nullptr_t>
@@ -251,6 +252,8 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
           t_before[i] = t.ad.t[i];
           may_reach[i] = kWatch || t.ad.t[i] + h_before[i] >= t.ad.next_sample[i];
           if (may_reach[i]) dense_due = true, y_before[i] = state(i);
+          if constexpr (kTangent)
+            if (may_reach[i]) tangent.save_before(i);
         }
       }
     }
@@ -292,6 +295,8 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
           const ParamsOf<S, double> c = Uniform ? c0 : t.params(i);
           const auto dense = Dop853Dense<S, with_z, with_mu>::build(
               y_before[i], state(i), r, c, t_before[i], h_before[i]);
+          if constexpr (kTangent)
+            tangent.build_dense(i, y_before[i], state(i), r, c, t_before[i], h_before[i]);
           on_dense(i, dense);
         }
       }

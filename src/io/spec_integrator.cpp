@@ -84,11 +84,8 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  // lyapunov's tangent is integrated with an adaptive lane's steps (AdaptiveTangent), but has
-  // no dense output: the stop's time and the window's ends fall between two steps.
-  if (m.lyapunov && m.stop)
-    refuse("measures.lyapunov with measures.stop",
-           "the tangent at a stop between two steps is not interpolated");
+  // lyapunov's tangent is integrated with an adaptive lane's steps (AdaptiveTangent) and read
+  // at a stop on the step's extension, but not yet at the window's ends between two steps.
   if (m.lyapunov && m.observe && m.observe->window)
     refuse("measures.lyapunov with measures.observe_window",
            "the tangent at the window's ends between two steps is not interpolated");

@@ -14,7 +14,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <type_traits>
 
 #include "engine/lane_writer.hpp"
 #include "engine/measures/tangent_tile.hpp"
@@ -99,15 +101,34 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   }
 
   // An adaptive method's tile t (main or finisher) makes `steps` attempts, its tangents with it
-  // (AdaptiveTangent); on_dense as advance_adaptive takes it. No stop and no observe_window
-  // here: their times fall between two steps, where the tangent has no dense output
-  // (spec_integrator.cpp refuses them with lyapunov).
-  template <bool Uniform, class OnDense>
+  // (AdaptiveTangent); on_dense and watch (the stop's, or nullptr) as advance_adaptive takes
+  // them. With the stop, a step that holds it has the tangent's continuous extension, read by
+  // at_stop from on_dense. No observe_window here (spec_integrator.cpp refuses it with
+  // lyapunov: its window's ends would need the same).
+  template <bool Uniform, class OnDense, class Watch>
   void advance_adaptive_tile(Tile& t, bool main, int steps, const Params& uniform,
-                             OnDense&& on_dense) {
-    AdaptiveTangent<S, W> tangent{main ? main_ : fin_};
-    advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, nullptr,
+                             OnDense&& on_dense, Watch&& watch) {
+    AdaptiveTangent<S, W, carry.z || S::z_feeds_back, carry.mu && !S::kz_constant> tangent{
+        main ? main_ : fin_};
+    tangent.want_dense = !std::is_null_pointer_v<std::remove_cvref_t<Watch>>;
+    stop_dense_ = [&tangent](double t_stop, double* v) {
+      const auto y = tangent.dense.at_time(t_stop);
+      for (int d = 0; d < D; ++d) v[d] = y.q[d].d, v[D + d] = y.p[d].d;
+      if constexpr (with_z) v[2 * D] = y.z.d;
+    };
+    advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, watch,
                                                 tangent);
+    stop_dense_ = nullptr;
+  }
+
+  // From on_dense of advance_adaptive_tile: lane i of the main tile or the finisher stops at
+  // t_stop inside its last step; its tangent there, from the step's extension (it is held
+  // there: its later attempts are empty and leave the tangent as it is).
+  void at_stop(bool main, int i, double t_stop) {
+    TangentTile<S, W>& g = main ? main_ : fin_;
+    double v[2 * D + 1] = {};
+    stop_dense_(t_stop, v);
+    for (int k = 0; k < 2 * D + 1; ++k) g.v[k][i] = v[k];
   }
 
   // A lane in `slot` stepped again from the chunk's start (base) to its stop: its tangent from
@@ -182,6 +203,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   TangentTile<S, W> main_{}, fin_{};
   TangentTile<S, W> snapshot_[2]{};  // the tiles' tangents at the start of their last advance
   LaneTangent<D> rerun_{};
+  std::function<void(double, double*)> stop_dense_;  // during advance_adaptive_tile (at_stop)
   Mark mark_a_[2 * W]{}, mark_b_[2 * W]{};
 };
 

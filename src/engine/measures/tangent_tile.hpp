@@ -132,7 +132,12 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
 // the state column alone by default.) The fold (fold_tile: powers of two, exact) runs every 32 attempts and
 // after the last, as in the fixed-step advance; it commutes with every rounding of the linear
 // tangent, so the exponent does not depend on when it runs, only on the lane's own steps.
-template <Scene S, int W>
+//
+// With `stop` (want_dense), a lane whose step may hold its stop keeps its tangent before the
+// step, and an accepted step that does gets the continuous extension of the state with its
+// tangent (Dop853Dense on duals: four more stages on duals), from which the runner reads the
+// tangent at the stop (LyapunovLanes::at_stop). wz, wmu: the components the step integrates.
+template <Scene S, int W, bool wz, bool wmu>
 struct AdaptiveTangent {
   static constexpr int D = S::dof;
   static constexpr bool with_z = tangent_has_z<S>();
@@ -140,26 +145,47 @@ struct AdaptiveTangent {
   using PT = contact_field::Point<D, Tangent>;
 
   TangentTile<S, W>& g;
+  bool want_dense = false;
   alignas(64) double dr[12][2 * D + 1][W];  // the stages' tangent rates: δq.., δp.., δz
+  alignas(64) double v_before[2 * D + 1][W];  // the tangent before the step (want_dense)
+  Dop853Dense<S, wz, wmu, Tangent> dense{};   // the last step's extension with its tangent
+
+  // Lane i's state point y and rate r with tangent parts from v and dr[j] (rows of 2D + 1).
+  [[gnu::always_inline]] static PT with_tangent(const P& y, const double (*v)[W], int i) {
+    PT out;
+    for (int d = 0; d < D; ++d) out.q[d] = {y.q[d], v[d][i]}, out.p[d] = {y.p[d], v[D + d][i]};
+    out.z = {y.z, with_z ? v[2 * D][i] : 0.0};
+    out.mu = {y.mu, 0.0};
+    return out;
+  }
+
+  // Lane i may reach its stop in this step: its tangent before it.
+  void save_before(int i) {
+    if (!want_dense) return;
+    for (int k = 0; k < 2 * D + 1; ++k) v_before[k][i] = g.v[k][i];
+  }
+
+  // Lane i's accepted step from (t0, y0) to y1 (values) with its stage rates r, h the step:
+  // the extension with its tangent into `dense`.
+  template <class C>
+  void build_dense(int i, const P& y0, const P& y1, const P* r, const C& c, double t0,
+                   double h) {
+    if (!want_dense) return;
+    PT rt[12];
+    for (int j = 0; j < 12; ++j) rt[j] = with_tangent(r[j], dr[j], i);
+    dense = Dop853Dense<S, wz, wmu, Tangent>::build(with_tangent(y0, v_before, i),
+                                                    with_tangent(y1, g.v, i), rt, c, t0, h);
+  }
 
   // Stage k of lane i from y0 (values; the tangent from g) with the rates r[0 … k − 1]: its
   // rate, its tangent rate kept in dr[k].
-  template <int k, class Method, bool wz, bool wmu, class C>
+  template <int k, class Method, bool stage_z, bool stage_mu, class C>
   [[gnu::always_inline]] P stage(int i, const P& y0, const C& c, double t, double hs,
                                  const P* r) {
-    PT y;
-    for (int d = 0; d < D; ++d) y.q[d] = {y0.q[d], g.v[d][i]}, y.p[d] = {y0.p[d], g.v[D + d][i]};
-    y.z = {y0.z, with_z ? g.v[2 * D][i] : 0.0};
-    y.mu = {y0.mu, 0.0};
+    static_assert(stage_z == wz && stage_mu == wmu);
+    const PT y = with_tangent(y0, g.v, i);
     PT rt[k > 0 ? k : 1];
-    for (int j = 0; j < k; ++j) {
-      for (int d = 0; d < D; ++d) {
-        rt[j].q[d] = {r[j].q[d], dr[j][d][i]};
-        rt[j].p[d] = {r[j].p[d], dr[j][D + d][i]};
-      }
-      rt[j].z = {r[j].z, with_z ? dr[j][2 * D][i] : 0.0};
-      rt[j].mu = {r[j].mu, 0.0};
-    }
+    for (int j = 0; j < k; ++j) rt[j] = with_tangent(r[j], dr[j], i);
     const PT rk = Method::template stage<k, S, wz, wmu>(y, c, t, hs, rt);
     P out;
     for (int d = 0; d < D; ++d) {

@@ -26,7 +26,8 @@
 // `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits,
 // which step at the spec's h, use. The lyapunov measure's tangent runs in the adaptive steps'
 // own stages (`stage` on duals, `advance_tangent`: engine/measures/tangent_tile.hpp's
-// AdaptiveTangent), its error not controlled.
+// AdaptiveTangent), its error not controlled; at a stop inside a step it is read on the
+// continuous extension on duals (numerics/dop853_dense.hpp with T = Dual<double>).
 #pragma once
 
 #include <cmath>
