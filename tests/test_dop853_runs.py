@@ -9,7 +9,8 @@ item 4), end to end through the CLI:
     closed-form periodic point (A, B*Omega) within rtol, over four decades of rtol, the error
     falling with it;
   * the forced Duffing's basin map (sweeps/basins_forced_duffing.toml, 64 x 64) labels every
-    cell as rk4 at h = T/1000 does, but for cells on the reference's basin boundary; its
+    cell as rk4 at h = T/1000 does, but for as many of the reference's boundary cells as lie
+    within the rtol-scaled backward error of the boundary (expected count, rounded up); its
     attractors' points agree with rk4's within a multiple of rtol;
   * the same map, the same bits on 1x1, 1x2 and 2x1 ranks x threads;
   * measures.stop on scene A's energy threshold: the exact energy at each lane's stop_time is
@@ -106,10 +107,20 @@ if dop and ref:
     check("forced Duffing 64 x 64: every cell decided, two attractors as rk4 finds them",
           (a != 0).all() and len(dop["attractor_q"]) == 2 == len(ref["attractor_q"]),
           f"{len(dop['attractor_q'])} and {len(ref['attractor_q'])} attractors")
-    check("forced Duffing: dop853's labels are rk4's (h = T/1000) but on its boundary cells",
-          not (wrong & ~boundary).any() and wrong.sum() <= 0.02 * boundary.sum(),
+    # A cell can change label only if its point lies within delta of the basin boundary, delta
+    # the two integrations' difference pulled back to t = 0: a run whose local errors are kept
+    # below rtol is the exact flow from a point within ~rtol per unit time of its start
+    # (backward error; rk4's at h = T/1000 is far smaller), so delta <= 10 rtol t_end with a
+    # margin of 10. A boundary cell of side c is then wrong with probability <= delta / c: the
+    # allowance is the expected count, rounded up (1 cell here; 0 differ, measured).
+    cell = 4.0 / (64 - 1)
+    delta = 10 * 1e-8 * 400.0
+    allowed = math.ceil(boundary.sum() * delta / cell)
+    check("forced Duffing: dop853's labels are rk4's (h = T/1000) but on at most "
+          "boundary * delta / cell of its boundary cells",
+          not (wrong & ~boundary).any() and wrong.sum() <= allowed,
           f"{wrong.sum()} cells differ, {(wrong & ~boundary).sum()} off the boundary "
-          f"({boundary.sum()} boundary cells)")
+          f"({boundary.sum()} boundary cells, {allowed} allowed)")
     # Points: samples within the tolerance (1e-6, the default) of the cycle; rk4's error at h =
     # 0.005 is ~1e-10 and dop853's ~rtol.
     da = np.stack([dop["attractor_q"][...], dop["attractor_p"][...]], axis=1)

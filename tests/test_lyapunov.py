@@ -27,6 +27,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
 from contactsweep_runs import Runs, read  # noqa: E402
+import chaotic_duffing  # noqa: E402
 import damped_oscillator  # noqa: E402
 from damped_oscillator import expm, generator, rk4_step  # noqa: E402
 
@@ -119,16 +120,10 @@ for t_end in (100.0, 400.0):
           np.all(np.abs(lyap) <= limit), f"{lyap} vs {limit}")
 
 # ---- chaotic forced Duffing: against an independent reference ---------------------------------
-# tests/reference/duffing_lyapunov.py: scipy DOP853 (rtol 1e-11) + variational equations, 8
-# trajectories from rest, transient 200 dropped, T = 10^4 each: mean and standard deviation.
 DUFFING_REFERENCE, DUFFING_REFERENCE_STD, DUFFING_REFERENCE_T, DUFFING_REFERENCE_N = (
-    0.10514, 0.0062, 1e4, 8)
-DUFFING = """[scene]
-K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
-delta = 0.3
-F = 0.5
-Omega = 1.2
-[integrator]
+    chaotic_duffing.REFERENCE, chaotic_duffing.REFERENCE_STD, chaotic_duffing.REFERENCE_T,
+    chaotic_duffing.REFERENCE_N)
+DUFFING = chaotic_duffing.SCENE.replace("{", "{{").replace("}", "}}") + """[integrator]
 method = "contact_splitting4"
 h = 0.01
 t_end = {t}

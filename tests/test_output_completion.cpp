@@ -4,15 +4,14 @@
 // labels past int8) must come out with its final type, attributes and dimension scales.
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "io/output_file.hpp"
 #include "support/hdf5_reading.hpp"
+#include "support/private_temp_dir.hpp"
 
 namespace {
 
@@ -23,17 +22,12 @@ using cs::FileLayout;
 using cs::OutputFile;
 using cs::PointRange;
 using cs::test::expect_scales;
+using cs::test::PrivateTempDir;
 using cs::test::read_all;
 using cs::test::Reader;
 using cs::test::text_attribute;
 
 constexpr std::int64_t kPoints = 12;  // 4 × 3
-
-std::string temp_path(const std::string& tag) {
-  return (std::filesystem::temp_directory_path() /
-          ("contactsweep_completion_" + tag + "_" + std::to_string(::getpid()) + ".h5"))
-      .string();
-}
 
 DatasetSpec basin_by_rule() {
   return {"basin", ElementType::int8, false, "basin of attraction", "", {-1, 0, 1},
@@ -121,7 +115,8 @@ void expect_same_objects(const std::string& path, const std::string& reference) 
 }
 
 TEST(OutputCompletion, SameDescriptionGivesTheOneStepFile) {
-  const std::string streamed = temp_path("streamed"), whole = temp_path("whole");
+  const PrivateTempDir dir("contactsweep_completion_");  // removed last, with its files
+  const std::string streamed = dir.file("streamed.h5"), whole = dir.file("whole.h5");
   const std::vector<std::int8_t> labels = {-1, 1, 1, 0, -1, -1, 1, 1, 1, 1, -1, 0};
   write_streamed(streamed, basin_by_rule(), labels);
   {
@@ -140,12 +135,11 @@ TEST(OutputCompletion, SameDescriptionGivesTheOneStepFile) {
   EXPECT_EQ(text_attribute(basin, "long_name"), "basin of attraction");
   EXPECT_EQ(text_attribute(basin, "flag_meanings"), "left undecided right");
   H5Dclose(basin);
-  std::filesystem::remove(streamed);
-  std::filesystem::remove(whole);
 }
 
 TEST(OutputCompletion, NumberedLabelsLoseTheRulesFlags) {
-  const std::string path = temp_path("numbered");
+  const PrivateTempDir dir("contactsweep_completion_");
+  const std::string path = dir.file("numbered.h5");
   const DatasetSpec numbered{"basin", ElementType::int8, false, "numbered basins", "", {}, "",
                              std::nullopt};
   const std::vector<std::int8_t> labels = {1, 2, 2, 0, 1, 1, 2, 2, 2, 2, 1, 0};
@@ -159,11 +153,11 @@ TEST(OutputCompletion, NumberedLabelsLoseTheRulesFlags) {
   EXPECT_EQ(H5Aexists(basin, "flag_values"), 0);
   EXPECT_EQ(H5Aexists(basin, "flag_meanings"), 0);
   H5Dclose(basin);
-  std::filesystem::remove(path);
 }
 
 TEST(OutputCompletion, LabelsPastInt8AreWrittenAsInt16) {
-  const std::string path = temp_path("int16");
+  const PrivateTempDir dir("contactsweep_completion_");
+  const std::string path = dir.file("int16.h5");
   const DatasetSpec wide{"basin", ElementType::int16, false, "numbered basins", "", {}, "",
                          std::nullopt};
   const std::vector<std::int16_t> labels = {1, 300, 2, 0, 1, 1, 2, 2, 2, 2, 1, -200};
@@ -178,7 +172,6 @@ TEST(OutputCompletion, LabelsPastInt8AreWrittenAsInt16) {
   H5Tclose(type);
   EXPECT_EQ(H5Aexists(basin, "flag_values"), 0);
   H5Dclose(basin);
-  std::filesystem::remove(path);
 }
 
 // A run's order (output_assembly.cpp): `basin` redefined and written first, read back as int32

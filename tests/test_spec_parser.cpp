@@ -16,6 +16,7 @@
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
 #include "physics/scene_catalog.hpp"
+#include "support/private_temp_dir.hpp"
 #include "support/spec_parsing.hpp"
 
 namespace cs {
@@ -452,9 +453,9 @@ basin = {}
 // Files, methods
 
 TEST(SpecParser, LoadReadsTheFileAndNamesItInMessages) {
-  const auto dir = std::filesystem::temp_directory_path() / "contactsweep_spec_parser_test";
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / "spec.toml").string();
+  const cs::test::PrivateTempDir temp("contactsweep_spec_parser_");
+  const std::filesystem::path& dir = temp.path();
+  const std::string path = temp.file("spec.toml");
   std::ofstream(path) << kDoubleWell << "[integrator]\nh = 0.02\n";
   EXPECT_EQ(load_run_spec(path, {}).h, 0.02);
   std::ofstream(path) << kDoubleWell << "[integrator]\nh = -1\n";
@@ -477,7 +478,6 @@ TEST(SpecParser, LoadReadsTheFileAndNamesItInMessages) {
       },
       InputError);
   EXPECT_THROW(load_run_spec(dir.string(), {}), InputError);
-  std::filesystem::remove_all(dir);
 }
 
 // Every scene of the catalog offers the sub-flows every method composes (scene B's -gamma z^2

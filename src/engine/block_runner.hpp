@@ -183,7 +183,17 @@ class BlockRunner {
     std::int64_t base[W];  // the lanes' step counts
     if constexpr (kFormulas || carry.tangent)
       for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done(i) : fin_book_[i].n;
-    if constexpr (carry.tangent) {
+    if constexpr (carry.tangent && kAdaptive) {  // no window (spec_integrator.cpp)
+      auto on_dense = [&](int i, const auto& dense) { dense_step(t, i, dense); };
+      if constexpr (Formulas::stop) {
+        lyapunov_.template advance_adaptive_tile<Uniform>(
+            t, which == 0, steps, uniform_params_, on_dense,
+            [&](int i) { return formulas_.stops_now(t, i); });
+      } else {
+        lyapunov_.template advance_adaptive_tile<Uniform>(t, which == 0, steps, uniform_params_,
+                                                          on_dense, nullptr);
+      }
+    } else if constexpr (carry.tangent) {
       bool hooks = false;
       if constexpr (kFormulas) hooks = formulas_.before_advance(t, which, base, steps);
       lyapunov_.template advance<Uniform>(t, which == 0, base, steps, uniform_params_,
@@ -429,17 +439,14 @@ class BlockRunner {
     // only then (a copy per lane is a cost on a map whose lanes stop early).
     const Book* book = &b;
     Book marked;
-    if constexpr (kAdaptive) {  // its lane-steps: the attempts it made, accepted or rejected
+    if constexpr (kAdaptive || carry.tangent) {
       marked = b;
+      book = &marked;
+    }
+    if constexpr (kAdaptive)  // its lane-steps: the attempts it made, accepted or rejected
       if (lane_slot < W) marked.n = static_cast<std::int64_t>(main_.ad.accepted[lane_slot] +
                                                               main_.ad.rejected[lane_slot]);
-      book = &marked;
-    }
-    if constexpr (carry.tangent) {
-      marked = b;
-      lyapunov_.finish(lane_slot, marked, status);
-      book = &marked;
-    }
+    if constexpr (carry.tangent) lyapunov_.finish(lane_slot, marked, status, x.t);
     writer_.finish(*book, x, c, status, verdict);
     if constexpr (kFormulas) formulas_.finish(lane_slot, *book, x, c, status, stopped, exit);
     if (plan_.map.basin_cells >= 0) {

@@ -31,6 +31,7 @@ void BlockRunner<S, Method, carry, Uniform, Formulas>::dense_step(Tile& t, int i
       end.t = formulas_.locate_stop(dense, end.t, end, c, x);
       end = x;
       stopped = true;
+      if constexpr (carry.tangent) lyapunov_.at_stop(&t == &main_, i, end.t);
     }
   }
   dense_samples_.in_step(b, end, end.t, c, dense, sample_at(slot(t, i)), sync_at(),

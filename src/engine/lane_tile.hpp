@@ -172,14 +172,20 @@ template <Scene S, Carry carry, class Method, int W>
 // sets the lane's next sample time. The steps themselves are those of a run without samples.
 // With `watch` (the stop: engine/measures/observables.hpp) every lane keeps its state before
 // each step, and a lane whose accepted step ends where watch(i) holds gets on_dense(i, d) too.
+// With `tangent` (engine/measures/tangent_tile.hpp's AdaptiveTangent: the lyapunov measure)
+// each stage runs with its tangent, and an accepted step moves the tangent too (and builds its
+// continuous extension with the tangent's, for a stop inside it).
 template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep,
-          class OnDense = std::nullptr_t, class Watch = std::nullptr_t>
+          class OnDense = std::nullptr_t, class Watch = std::nullptr_t,
+          class TangentHook = std::nullptr_t>
 [[gnu::flatten]] inline void advance_adaptive(LaneTile<S, Method, W>& t, int steps,
                                               const ParamsOf<S, double>& uniform,
                                               AfterStep&& after_step,
                                               OnDense&& on_dense = nullptr,
-                                              Watch&& watch = nullptr) {
+                                              Watch&& watch = nullptr,
+                                              TangentHook&& tangent = nullptr) {
   constexpr bool kWatch = !std::is_null_pointer_v<std::remove_cvref_t<Watch>>;
+  constexpr bool kTangent = !std::is_null_pointer_v<std::remove_cvref_t<TangentHook>>;
   constexpr int D = S::dof;
   constexpr bool with_z = carry.z || S::z_feeds_back;
   constexpr bool with_mu = carry.mu && !S::kz_constant;
@@ -212,7 +218,16 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
         P r[kStages];
         load_rates(r, k, i);
         P rk;
-        if constexpr (Uniform) {
+        if constexpr (kTangent) {
+          constexpr int kk = decltype(k)::value;
+          if constexpr (Uniform) {
+            rk = tangent.template stage<kk, Method, with_z, with_mu>(i, state(i), c0, t.ad.t[i],
+                                                                     hs, r);
+          } else {
+            rk = tangent.template stage<kk, Method, with_z, with_mu>(i, state(i), t.params(i),
+                                                                     t.ad.t[i], hs, r);
+          }
+        } else if constexpr (Uniform) {
           rk = Method::template stage<decltype(k)::value, S, with_z, with_mu>(state(i), c0,
                                                                               t.ad.t[i], hs, r);
         } else {
@@ -237,6 +252,8 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
           t_before[i] = t.ad.t[i];
           may_reach[i] = kWatch || t.ad.t[i] + h_before[i] >= t.ad.next_sample[i];
           if (may_reach[i]) dense_due = true, y_before[i] = state(i);
+          if constexpr (kTangent)
+            if (may_reach[i]) tangent.save_before(i);
         }
       }
     }
@@ -254,6 +271,9 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
       double accepted = t.ad.accepted[i], rejected = t.ad.rejected[i];
       Method::template conclude<S, carry>(x, lane_t, lane_h, last_rejected, accepted, rejected,
                                           control, r);
+      if constexpr (kTangent)
+        tangent.template conclude<Method>(i, Method::step_to_try(t.ad.t[i], t.ad.h[i], control),
+                                          accepted > t.ad.accepted[i]);
       for (int d = 0; d < D; ++d) t.q[d][i] = x.q[d], t.p[d][i] = x.p[d];
       if constexpr (carry.z || S::z_feeds_back) t.z[i] = x.z;
       if constexpr (carry.mu) t.mu[i] = x.mu;
@@ -275,10 +295,13 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
           const ParamsOf<S, double> c = Uniform ? c0 : t.params(i);
           const auto dense = Dop853Dense<S, with_z, with_mu>::build(
               y_before[i], state(i), r, c, t_before[i], h_before[i]);
+          if constexpr (kTangent)
+            tangent.build_dense(i, y_before[i], state(i), r, c, t_before[i], h_before[i]);
           on_dense(i, dense);
         }
       }
     }
+    if constexpr (kTangent) tangent.after_attempt(s, steps);
     after_step(s);
   }
 }

@@ -84,8 +84,11 @@ void SpecReader::check_adaptive_measures() const {
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  if (m.lyapunov)
-    refuse("measures.lyapunov", "the tangent of an adaptive step is not written");
+  // lyapunov's tangent is integrated with an adaptive lane's steps (AdaptiveTangent) and read
+  // at a stop on the step's extension, but not yet at the window's ends between two steps.
+  if (m.lyapunov && m.observe && m.observe->window)
+    refuse("measures.lyapunov with measures.observe_window",
+           "the tangent at the window's ends between two steps is not interpolated");
   for (const GridAxis& axis : spec_.axes)
     if (axis.is_step_size)
       refuse("a grid over h", "h is only its first step; vary integrator.rtol in runs of their own");

@@ -14,15 +14,20 @@
 // −h·K_z) is linear in time, and interpolated linearly between y0 and y1.
 #pragma once
 
+#include <type_traits>
+
 #include "numerics/contact_field.hpp"
 #include "numerics/lane_math.hpp"
 
 namespace cs {
 
-template <Scene S, bool with_z, bool with_mu>
+// T = Dual<double>: the same extension of the state with its tangent (the lyapunov measure's
+// tangent at a stop inside the step, engine/measures/tangent_tile.hpp), value parts the same
+// operations as T = double.
+template <Scene S, bool with_z, bool with_mu, class T = double>
 struct Dop853Dense {
   static constexpr int D = S::dof;
-  using P = contact_field::Point<D, double>;
+  using P = contact_field::Point<D, T>;
 
   double t0 = 0.0, h = 0.0;
   P y0{}, y1{};
@@ -36,24 +41,25 @@ struct Dop853Dense {
     d.t0 = t0, d.h = h, d.y0 = y0, d.y1 = y1;
     P k[16];
     for (int j = 0; j < 12; ++j) k[j] = r[j];
-    k[12] = contact_field::rate<S, with_z, with_mu>(y1, c, t0 + h);
+    k[12] = contact_field::rate<S, with_z, with_mu>(y1, c, as_t(t0 + h));
     for (int s = 13; s < 16; ++s) {
       P y = y0;
       each([&](auto m) __attribute__((always_inline)) {
-        double acc = 0.0;
+        T acc{};
         for (int j = 0; j < s; ++j)
           if (kA[s - 13][j] != 0.0) acc = lane_math::mul_add(kA[s - 13][j], at<m>(k[j]), acc);
         at<m>(y) = lane_math::mul_add(h, acc, at<m>(y0));
       });
-      k[s] = contact_field::rate<S, with_z, with_mu>(y, c, lane_math::mul_add(h, kCx[s - 13], t0));
+      k[s] = contact_field::rate<S, with_z, with_mu>(y, c,
+                                                     as_t(lane_math::mul_add(h, kCx[s - 13], t0)));
     }
     each([&](auto m) __attribute__((always_inline)) {
-      const double dy = at<m>(y1) - at<m>(y0);
+      const T dy = at<m>(y1) - at<m>(y0);
       at<m>(d.F[0]) = dy;
       at<m>(d.F[1]) = lane_math::mul_add(h, at<m>(k[0]), -dy);
       at<m>(d.F[2]) = 2.0 * dy - h * (at<m>(k[12]) + at<m>(k[0]));
       for (int i = 0; i < 4; ++i) {
-        double acc = 0.0;
+        T acc{};
         for (int j = 0; j < 16; ++j)
           if (kD[i][j] != 0.0) acc = lane_math::mul_add(kD[i][j], at<m>(k[j]), acc);
         at<m>(d.F[3 + i]) = h * acc;
@@ -69,7 +75,7 @@ struct Dop853Dense {
     P y = y0;
     contact_field::unrolled<2 * D + 2>([&](auto m) __attribute__((always_inline)) {
       if constexpr (integrated(m)) {
-        double v = 0.0;
+        T v{};
         for (int i = 6; i >= 0; --i) v = (v + at<m>(F[i])) * ((6 - i) % 2 == 0 ? x : x1);
         at<m>(y) = v + at<m>(y0);
       } else {
@@ -90,15 +96,20 @@ struct Dop853Dense {
       if constexpr (integrated(m)) f(m);
     });
   }
+  // A time as T (a constant: derivative part 0 where T is a dual).
+  static T as_t(double t) {
+    if constexpr (std::is_same_v<T, double>) return t;
+    else return T{t, 0.0};
+  }
   template <int m>
-  static double& at(P& y) {
+  static T& at(P& y) {
     if constexpr (m < D) return y.q[m];
     else if constexpr (m < 2 * D) return y.p[m - D];
     else if constexpr (m == 2 * D) return y.z;
     else return y.mu;
   }
   template <int m>
-  static double at(const P& y) {
+  static T at(const P& y) {
     return at<m>(const_cast<P&>(y));
   }
 

@@ -14,7 +14,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <type_traits>
 
 #include "engine/lane_writer.hpp"
 #include "engine/measures/tangent_tile.hpp"
@@ -29,7 +31,7 @@ class LyapunovLanes {
   void seed(int, const LaneState<S::dof>&, const ParamsOf<S, double>&) {}
   void clear(bool, int) {}
   void move(int, int) {}
-  void finish(int, LaneBook<S::dof>&, LaneStatus) {}
+  void finish(int, LaneBook<S::dof>&, LaneStatus, double) {}
 };
 
 template <Scene S, class Method, Carry carry, int W>
@@ -98,6 +100,37 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
         });
   }
 
+  // An adaptive method's tile t (main or finisher) makes `steps` attempts, its tangents with it
+  // (AdaptiveTangent); on_dense and watch (the stop's, or nullptr) as advance_adaptive takes
+  // them. With the stop, a step that holds it has the tangent's continuous extension, read by
+  // at_stop from on_dense. No observe_window here (spec_integrator.cpp refuses it with
+  // lyapunov: its window's ends would need the same).
+  template <bool Uniform, class OnDense, class Watch>
+  void advance_adaptive_tile(Tile& t, bool main, int steps, const Params& uniform,
+                             OnDense&& on_dense, Watch&& watch) {
+    AdaptiveTangent<S, W, carry.z || S::z_feeds_back, carry.mu && !S::kz_constant> tangent{
+        main ? main_ : fin_};
+    tangent.want_dense = !std::is_null_pointer_v<std::remove_cvref_t<Watch>>;
+    stop_dense_ = [&tangent](double t_stop, double* v) {
+      const auto y = tangent.dense.at_time(t_stop);
+      for (int d = 0; d < D; ++d) v[d] = y.q[d].d, v[D + d] = y.p[d].d;
+      if constexpr (with_z) v[2 * D] = y.z.d;
+    };
+    advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, watch,
+                                                tangent);
+    stop_dense_ = nullptr;
+  }
+
+  // From on_dense of advance_adaptive_tile: lane i of the main tile or the finisher stops at
+  // t_stop inside its last step; its tangent there, from the step's extension (it is held
+  // there: its later attempts are empty and leave the tangent as it is).
+  void at_stop(bool main, int i, double t_stop) {
+    TangentTile<S, W>& g = main ? main_ : fin_;
+    double v[2 * D + 1] = {};
+    stop_dense_(t_stop, v);
+    for (int k = 0; k < 2 * D + 1; ++k) g.v[k][i] = v[k];
+  }
+
   // A lane in `slot` stepped again from the chunk's start (base) to its stop: its tangent from
   // the snapshot, and no marks past base (the tile's advance ran on past the stop).
   void rerun_begin(int slot, std::int64_t base) {
@@ -118,14 +151,18 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
     (slot < W ? main_ : fin_).set_lane(slot % W, rerun_);
   }
 
-  // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps. NaN where the lane
-  // failed or its interval is empty; a healthy lane whose exponent is not finite is flagged
-  // through its book (LaneWriter then writes non_finite_output).
-  void finish(int lane_slot, LaneBook<D>& b, LaneStatus status) {
+  // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps, at time t_lane.
+  // NaN where the lane failed or its interval is empty; a healthy lane whose exponent is not
+  // finite is flagged through its book (LaneWriter then writes non_finite_output). An adaptive
+  // lane's interval is [t_start, t_lane], its own time; a fixed-step lane's n·h.
+  void finish(int lane_slot, LaneBook<D>& b, LaneStatus status, double t_lane) {
     double value = std::numeric_limits<double>::quiet_NaN();
     if (status == LaneStatus::ok && b.n > 0) {
       const LaneTangent<D> w = lane_slot < W ? main_.lane(lane_slot) : fin_.lane(lane_slot - W);
-      if (!window_) {
+      if (adaptive_method<Method>()) {
+        value = lyapunov_value_over<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0,
+                                               t_lane - plan_.spec.t_start);
+      } else if (!window_) {
         value = lyapunov_value<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0, b.n,
                                           plan_.spec.h);
       } else {
@@ -166,6 +203,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   TangentTile<S, W> main_{}, fin_{};
   TangentTile<S, W> snapshot_[2]{};  // the tiles' tangents at the start of their last advance
   LaneTangent<D> rerun_{};
+  std::function<void(double, double*)> stop_dense_;  // during advance_adaptive_tile (at_stop)
   Mark mark_a_[2 * W]{}, mark_b_[2 * W]{};
 };
 

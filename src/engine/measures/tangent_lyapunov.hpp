@@ -97,14 +97,20 @@ inline constexpr double kFoldLog = 256 * 0x1.62e42fefa39efp-1;  // 256·ln 2 (an
   return lane_math::select(high, kFoldDown, lane_math::select(low, kFoldUp, 1.0));
 }
 
-// The exponent from a lane's tangent after n steps of size h; `log_norm0` = ln‖v_0‖.
+// The exponent from a lane's tangent after a time `duration`; `log_norm0` = ln‖v_0‖.
 template <int D, bool with_z>
-double lyapunov_value(const double* v, double folds, double log_norm0, std::int64_t n, double h) {
-  if (n <= 0) return std::numeric_limits<double>::quiet_NaN();
+double lyapunov_value_over(const double* v, double folds, double log_norm0, double duration) {
   double sum = 0.0;
   for (int k = 0; k < 2 * D + (with_z ? 1 : 0); ++k) sum = sum + v[k] * v[k];
   const double log_norm = 0.5 * std::log(sum);
-  return (folds * kFoldLog + (log_norm - log_norm0)) / (static_cast<double>(n) * h);
+  return (folds * kFoldLog + (log_norm - log_norm0)) / duration;
+}
+
+// The exponent from a lane's tangent after n steps of size h.
+template <int D, bool with_z>
+double lyapunov_value(const double* v, double folds, double log_norm0, std::int64_t n, double h) {
+  if (n <= 0) return std::numeric_limits<double>::quiet_NaN();
+  return lyapunov_value_over<D, with_z>(v, folds, log_norm0, static_cast<double>(n) * h);
 }
 
 // A lane's state as duals: values from x, derivative parts from the tangent.

@@ -23,11 +23,15 @@
 // order 7 of its accepted step (numerics/dop853_dense.hpp, built from the 12 stage rates and
 // four more evaluations, only for a step that holds a sample).
 //
-// `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits
-// and the tangent kernels, which step at the spec's h, use.
+// `step` is one step of the 8th-order formula at the fixed h of Coef: what the attractor orbits,
+// which step at the spec's h, use. The lyapunov measure's tangent runs in the adaptive steps'
+// own stages (`stage` on duals, `advance_tangent`: engine/measures/tangent_tile.hpp's
+// AdaptiveTangent), its error not controlled; at a stop inside a step it is read on the
+// continuous extension on duals (numerics/dop853_dense.hpp with T = Dual<double>).
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "numerics/contact_field.hpp"
 #include "numerics/lane_state.hpp"
@@ -115,18 +119,33 @@ struct Dop853 {
   }
 
   // Stage i's rate from y0 at t with step hs, from the rates r[0 … i − 1] (the tile computes
-  // the stages one at a time over all its lanes: engine/lane_tile.hpp).
-  template <int i, Scene S, bool with_z, bool with_mu>
-  [[gnu::always_inline]] static contact_field::Point<S::dof, double> stage(
-      const contact_field::Point<S::dof, double>& y0, const ParamsOf<S, double>& c, double t,
-      double hs, const contact_field::Point<S::dof, double>* r) {
+  // the stages one at a time over all its lanes: engine/lane_tile.hpp). T = Dual<double>: the
+  // stage with its tangent (engine/measures/tangent_tile.hpp's AdaptiveTangent), the value
+  // parts the same operations as T = double; t and hs stay plain numbers, so the tangent is the
+  // variational equation's stage at the step the state's error chose.
+  template <int i, Scene S, bool with_z, bool with_mu, class T, class C>
+  [[gnu::always_inline]] static contact_field::Point<S::dof, T> stage(
+      const contact_field::Point<S::dof, T>& y0, const C& c, double t, double hs,
+      const contact_field::Point<S::dof, T>* r) {
     if constexpr (i == 0) {
-      return contact_field::rate<S, with_z, with_mu>(y0, c, t);
+      return contact_field::rate<S, with_z, with_mu>(y0, c, constant<T>(t));
     } else {
-      contact_field::Point<S::dof, double> y = y0;
+      contact_field::Point<S::dof, T> y = y0;
       combine<i, i, S::dof, with_z, with_mu>(y, y0, hs, r);
-      return contact_field::rate<S, with_z, with_mu>(y, c, lane_math::mul_add(hs, kC[i], t));
+      return contact_field::rate<S, with_z, with_mu>(
+          y, c, constant<T>(lane_math::mul_add(hs, kC[i], t)));
     }
+  }
+
+  // The tangent at the end of an accepted step: v = v0 + hs·Σ_j b_j·dr_j, dr_j the stages'
+  // tangent rates (the 8th-order formula on the variational equation; no error estimate of its
+  // own: see AdaptiveTangent).
+  template <int D, bool with_z>
+  [[gnu::always_inline]] static void advance_tangent(contact_field::Point<D, double>& v,
+                                                     const contact_field::Point<D, double>& v0,
+                                                     double hs,
+                                                     const contact_field::Point<D, double>* dr) {
+    combine<kRowB, 12, D, with_z, false>(v, v0, hs, dr);
   }
 
   // The attempt from its 12 stage rates r: the new state, the error norm, accepted or not, the
@@ -275,6 +294,13 @@ struct Dop853 {
   };
   static constexpr int kRowB = 12, kRowE5 = 13, kRowE3 = 14;
 
+  // x as a T: a constant (derivative part 0) where T is a dual.
+  template <class T>
+  [[gnu::always_inline]] static T constant(double x) {
+    if constexpr (std::is_same_v<T, double>) return x;
+    else return T{x, 0.0};
+  }
+
   // Component m of a point: q_0.., p_0.., z, ln λ.
   template <int m, int D, class T>
   [[gnu::always_inline]] static T& at(contact_field::Point<D, T>& y) {
@@ -301,9 +327,9 @@ struct Dop853 {
   }
 
   // y = y0 + h·Σ_j w_j·r_j on every integrated component.
-  template <int row, int J, int D, bool with_z, bool with_mu, class T>
+  template <int row, int J, int D, bool with_z, bool with_mu, class T, class H>
   [[gnu::always_inline]] static void combine(contact_field::Point<D, T>& y,
-                                             const contact_field::Point<D, T>& y0, T h,
+                                             const contact_field::Point<D, T>& y0, H h,
                                              const contact_field::Point<D, T>* r) {
     contact_field::unrolled<2 * D + 2>([&](auto m) __attribute__((always_inline)) {
       constexpr bool integrated = m < 2 * D || (m == 2 * D && with_z) || (m == 2 * D + 1 && with_mu);
