@@ -178,7 +178,8 @@ TEST(OutputCompletion, LabelsPastInt8AreWrittenAsInt16) {
 // for the statistics (any range, rows cut anywhere), then the tables and attributes: the same
 // objects in the same creation order as completing first, and the same values.
 TEST(OutputCompletion, BasinWrittenFirstIsReadBackAndGivesTheSameFile) {
-  const std::string first = temp_path("basin_first"), usual = temp_path("basin_usual");
+  const PrivateTempDir dir("contactsweep_completion_");
+  const std::string first = dir.file("basin_first.h5"), usual = dir.file("basin_usual.h5");
   const DatasetSpec wide{"basin", ElementType::int16, false, "numbered basins", "", {}, "",
                          std::nullopt};
   const std::vector<std::int16_t> labels = {1, 300, 2, 0, 1, 1, 2, 2, 2, 2, 1, -200};
@@ -203,8 +204,6 @@ TEST(OutputCompletion, BasinWrittenFirstIsReadBackAndGivesTheSameFile) {
   Reader a(first);
   ASSERT_GE(a.file, 0);
   EXPECT_EQ(read_all<std::int16_t>(a.file, "basin", H5T_NATIVE_INT16), labels);
-  std::filesystem::remove(first);
-  std::filesystem::remove(usual);
 }
 
 }  // namespace
