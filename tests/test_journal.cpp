@@ -15,6 +15,7 @@
 #include "parallel/journal.hpp"
 #include "parallel/journal_writer.hpp"
 #include "parallel/run_identity.hpp"
+#include "support/private_temp_dir.hpp"
 
 namespace cs {
 namespace {
@@ -24,14 +25,14 @@ namespace fs = std::filesystem;
 class JournalTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("contactsweep_journal_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    // A fresh private directory (mkdtemp): a guessable name in a shared /tmp may be another
+    // user's, and the test removes its directory at the end.
+    temp_ = std::make_unique<test::PrivateTempDir>("contactsweep_journal_");
+    dir_ = temp_->path();
     fs::create_directories(dir_);
     output_ = (dir_ / "out.h5").string();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { temp_.reset(); }
 
   static std::vector<ColumnSpec> columns() {
     DatasetSpec final_q, traj_q;
@@ -49,6 +50,7 @@ class JournalTest : public ::testing::Test {
     return {run_id, build_identity(), 100, 10, false, "[scene]\nname = \"double_well\"\n"};
   }
 
+  std::unique_ptr<test::PrivateTempDir> temp_;
   fs::path dir_;
   std::string output_;
 };

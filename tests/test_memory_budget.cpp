@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include "io/memory_budget.hpp"
 #include "model/run_spec.hpp"
+#include "support/private_temp_dir.hpp"
 
 namespace cs {
 namespace {
@@ -24,10 +26,10 @@ constexpr std::uint64_t kGiB = 1024 * kMiB;
 class MemoryBudgetTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("contactsweep_memory_budget_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
+    // A fresh private directory (mkdtemp): a guessable name in a shared /tmp may be another
+    // user's, and the test removes its directory at the end.
+    temp_ = std::make_unique<test::PrivateTempDir>("contactsweep_memory_budget_");
+    root_ = temp_->path();
     // MemFree far below MemAvailable, as on a node whose memory is mostly page cache.
     write("proc/meminfo",
           "MemTotal:       67108864 kB\n"
@@ -36,7 +38,7 @@ class MemoryBudgetTest : public ::testing::Test {
           "Cached:         50331648 kB\n"
           "HugePages_Total:       0\n");
   }
-  void TearDown() override { fs::remove_all(root_); }
+  void TearDown() override { temp_.reset(); }
 
   void write(const fs::path& relative, const std::string& text) {
     fs::create_directories((root_ / relative).parent_path());
@@ -58,6 +60,7 @@ class MemoryBudgetTest : public ::testing::Test {
     return (root_ / "cgroup" / relative).string();
   }
 
+  std::unique_ptr<test::PrivateTempDir> temp_;
   fs::path root_;
   static constexpr double kMemAvailable = 16.0 * kGiB;  // 16777216 kB
 };

@@ -4,7 +4,7 @@
 // protocol.
 //
 // The main file (and a scalar one next to it) are kept for tests/test_xarray_open.py: their path is
-// $CONTACTSWEEP_TEST_OUT, default /tmp/contactsweep_output_test.h5.
+// $CONTACTSWEEP_TEST_OUT (run by hand without it: a private temporary directory, removed at exit).
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <hdf5_hl.h>
@@ -25,6 +25,7 @@
 
 #include "io/output_file.hpp"
 #include "support/hdf5_reading.hpp"
+#include "support/private_temp_dir.hpp"
 
 namespace {
 
@@ -47,7 +48,9 @@ std::string output_path() {
   if (const char* path = std::getenv("CONTACTSWEEP_TEST_OUT"); path != nullptr && *path != '\0') {
     return path;
   }
-  return "/tmp/contactsweep_output_test.h5";
+  // Run by hand: a private directory of its own (a fixed name in /tmp may be another user's).
+  static const cs::test::PrivateTempDir dir("contactsweep_output_test_");
+  return dir.file("contactsweep_output_test.h5");
 }
 
 // Another file next to the main one: "<dir>/<stem>_<tag>.h5".
