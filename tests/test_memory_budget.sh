@@ -36,4 +36,7 @@ CONTACTSWEEP_MEMORY_LIMIT=80M "$bin" run "$spec" "${basin[@]}" -o basin.h5 --qui
 CONTACTSWEEP_MEMORY_LIMIT=48M "$bin" run "$spec" "${basin[@]}" -o basin_small.h5 --quiet >basin_small.log 2>&1
 rc=$?
 ((rc == 2)) || fail "a basin map whose compact labels do not fit: exit $rc, expected 2"
-echo "ok: counted blocks in flight (accepted at 1.5 MiB, refused at 256 KiB); a 2048² basin map runs in 80 MiB"
+grep -q "memory" basin_small.log || fail "the refusal does not name memory: $(cat basin_small.log)"
+[[ ! -e basin_small.h5 && ! -e basin_small.h5.partial && ! -e basin_small.h5.journal ]] ||
+  fail "a refused basin map wrote something"
+echo "ok: counted blocks in flight (accepted at 1.5 MiB, refused at 256 KiB); a 2048² basin map passes the check at 80 MiB, refused at 48 MiB"

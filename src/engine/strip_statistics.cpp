@@ -175,6 +175,10 @@ class StripPass {
       for (std::size_t k = 0; k < eps_.size(); ++k) uncertain(s, k, band, first, end, above, below, mine);
     }
     if (!plane) return;
+    // The ε bands are done with: the Wada pass holds one band and its masks, no more
+    // (summary_bytes_on_rank0 counts the larger of the two passes, not their sum).
+    std::vector<BasinLabel>().swap(above);
+    std::vector<BasinLabel>().swap(below);
     std::sort(basins.begin(), basins.end());
     basins.erase(std::unique(basins.begin(), basins.end()), basins.end());
     if (basins.size() < 3) return;

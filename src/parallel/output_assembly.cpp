@@ -144,8 +144,9 @@ class ColumnBatch {
     values_.clear();
   }
 
- private:
   static constexpr std::size_t kBatchValues = std::size_t{1} << 23;  // 64 MiB
+
+ private:
   OutputFile& file_;
   const DatasetSpec dataset_;
   std::vector<PointRange> ranges_;  // ascending: blocks come in order from each rank
@@ -161,6 +162,13 @@ void check_output_names(const RunPlan& plan) {
   if (!name.empty())
     throw InputError("the output would hold two datasets named '" + name +
                      "' (a grid axis or parameter and a measure's dataset); rename the parameter");
+}
+
+double basin_batch_bytes(const RunPlan& plan) {
+  if (plan.map.basin < 0) return 0.0;
+  const auto width = static_cast<std::size_t>(plan.columns[static_cast<std::size_t>(plan.map.basin)].width);
+  const auto points = static_cast<std::size_t>(plan.grid.size());
+  return static_cast<double>(std::min(points * width, ColumnBatch::kBatchValues)) * sizeof(double);
 }
 
 static bool is_streamed(const RunPlan& plan, std::size_t k) {

@@ -56,6 +56,10 @@ struct OpenOutput {
 void open_output(const RunPlan& plan, const OutputOptions& options, OpenOutput& output,
                  MPI_Comm comm);
 
+// What rank 0's batch for writing `basin` holds at most, in bytes (freed before the statistics
+// read the labels back).
+double basin_batch_bytes(const RunPlan& plan);
+
 // The columns written while the run goes on: every written column but `basin`.
 std::vector<BlockStream::Column> streamed_columns(const RunPlan& plan);
 

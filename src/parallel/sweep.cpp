@@ -123,7 +123,12 @@ HeldValues held_values(const RunPlan& plan) {
   for (std::size_t k = 0; k < plan.columns.size(); ++k) {
     const ColumnSpec& column = plan.columns[k];
     // `basin` is held compact (engine/basin_column.hpp): at most 4 bytes a point, half a double.
-    if (static_cast<int>(k) == plan.map.basin) held.per_point_kept += 0.5 * static_cast<double>(column.width);
+    // A block becomes compact only once the journal has saved it: until then (in flight) its
+    // `basin` is doubles, 4 bytes a point more.
+    if (static_cast<int>(k) == plan.map.basin) {
+      held.per_point_kept += 0.5 * static_cast<double>(column.width);
+      held.per_point_in_flight += 0.5 * static_cast<double>(column.width);
+    }
     if (!column.internal) continue;
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
     else held.per_point_kept += static_cast<double>(column.width);
@@ -180,7 +185,9 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
       (in_flight_blocks * static_cast<double>(block_size) * held.per_point_in_flight +
        static_cast<double>(local_points) * held.per_point_kept +
        static_cast<double>(local_blocks) * held.per_block_kept) * sizeof(double);
-  if (c.rank == 0 && plan.map.basin >= 0) node_bytes += summary_bytes_on_rank0(plan);
+  // Rank 0 writes `basin` through a batch, freed before it reads the map back a band at a time.
+  if (c.rank == 0 && plan.map.basin >= 0)
+    node_bytes += std::max(summary_bytes_on_rank0(plan), basin_batch_bytes(plan));
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(c.comm))
     MPI_Comm_split_type(c.comm, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
@@ -333,7 +340,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     return control != nullptr && control->stop_requested();
   };
   OutputOptions output_options{options.output, options.command_line, decision.replace_output,
-                               [&] { test_kill_point("write", c.rank); }, nullptr};
+                               [&] { test_kill_point("write", c.rank); }, nullptr, {}};
   OpenOutput output;  // destroyed last on a failure: removes the temporary file
   open_output(plan, output_options, output, comm);
   std::vector<std::unique_ptr<BlockResults>> results(blocks.size());
