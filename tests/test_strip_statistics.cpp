@@ -1,22 +1,23 @@
-// The statistics of a basin map read a band of rows at a time (engine/strip_statistics.hpp)
-// against the whole-map functions (basin_statistics, fractions_along), bit for bit: several
-// basins and undecided cells, 1-D and 2-D planes, slices and a continuation axis, bands that do
-// not divide the plane, a band of one row and bands thinner than the boxes, the largest ε and
-// the Wada test's halo, and a map whose boundary is Wada.
+// The statistics of a basin map read a band of rows at a time (engine/strip_statistics.hpp): the
+// numbers of a straight boundary in closed form, and every statistic the same, bit for bit,
+// whatever the band height, against one band holding the whole plane: several basins and
+// undecided cells, 1-D and 2-D planes, slices and a continuation axis (its fractions against
+// a plain count), bands that do not divide the plane, a band of one row and bands thinner than
+// the boxes, the largest ε and the Wada test's halo, and a map whose boundary is Wada
+// (test_wada.cpp checks the Wada test's verdicts on maps whose answer is known).
 #include <gtest/gtest.h>
 
 #include <bit>
 #include <cmath>
-#include <complex>
-#include <cstring>
-#include <numbers>
 #include <random>
 
-#include "engine/basin_statistics.hpp"
+#include "basin_maps.hpp"
 #include "engine/strip_statistics.hpp"
 
 namespace cs {
 namespace {
+
+using test::reader_of;
 
 bool same_bits(double a, double b) {
   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
@@ -43,16 +44,6 @@ void expect_same(const BasinStatistics& a, const BasinStatistics& b) {
   EXPECT_EQ(a.wada.verdict(), b.wada.verdict());
 }
 
-LabelReader reader_of(const std::vector<BasinLabel>& labels, std::int64_t* reads = nullptr) {
-  return [&labels, reads](std::int64_t begin, std::int64_t end, BasinLabel* out) {
-    ASSERT_LE(0, begin);
-    ASSERT_LE(begin, end);
-    ASSERT_LE(end, static_cast<std::int64_t>(labels.size()));
-    std::memcpy(out, labels.data() + begin, static_cast<std::size_t>(end - begin) * sizeof(BasinLabel));
-    if (reads) *reads = std::max(*reads, end - begin);
-  };
-}
-
 // Smooth regions of `basins` labels, a fractal-looking seam and undecided specks: boxes and
 // every ε see boundaries, and a few cells are 0.
 std::vector<BasinLabel> mixed_map(std::int64_t cells, std::int64_t columns, int basins, unsigned seed) {
@@ -70,42 +61,108 @@ std::vector<BasinLabel> mixed_map(std::int64_t cells, std::int64_t columns, int 
   return labels;
 }
 
+// The fractions along `axis` by a plain count: fractions[value][label].
+std::vector<std::map<int, double>> counted_fractions(const std::vector<BasinLabel>& labels,
+                                                     const BasinMapShape& shape, int axis) {
+  std::int64_t stride = 1;
+  for (std::size_t a = static_cast<std::size_t>(axis) + 1; a < shape.dims.size(); ++a) stride *= shape.dims[a];
+  const std::int64_t values = shape.dims[static_cast<std::size_t>(axis)];
+  std::vector<std::map<int, std::int64_t>> counts(static_cast<std::size_t>(values));
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    ++counts[static_cast<std::size_t>((static_cast<std::int64_t>(i) / stride) % values)][labels[i]];
+  std::vector<std::map<int, double>> fractions(counts.size());
+  for (std::size_t v = 0; v < counts.size(); ++v) {
+    std::int64_t total = 0;
+    for (const auto& [label, n] : counts[v]) total += n;
+    for (const auto& [label, n] : counts[v])
+      fractions[v][label] = static_cast<double>(n) / static_cast<double>(total);
+  }
+  return fractions;
+}
+
+void expect_same_fractions(const std::vector<std::map<int, double>>& a,
+                           const std::vector<std::map<int, double>>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t v = 0; v < a.size(); ++v) {
+    ASSERT_EQ(a[v].size(), b[v].size()) << v;
+    for (const auto& [label, f] : b[v]) EXPECT_TRUE(same_bits(a[v].at(label), f)) << v << " " << label;
+  }
+}
+
+std::int64_t plane_rows(const BasinMapShape& shape) {
+  return shape.plane_axes == 2 ? shape.dims[shape.dims.size() - 2] : 1;
+}
+
 void expect_same_for_strips(const std::vector<BasinLabel>& labels, const BasinMapShape& shape,
                             int axis = -1) {
-  const BasinStatistics whole = basin_statistics(labels, shape);
   const bool per_slice = axis == 0 && shape.plane_axes > 0 &&
                          shape.dims.size() == static_cast<std::size_t>(shape.plane_axes) + 1;
+  const std::int64_t rows = plane_rows(shape);
+  // The reference: one band holding the whole plane, read at once (no halo, nothing read again).
+  std::int64_t whole_read = 0;
+  const MapStatistics one = strip_statistics(shape, reader_of(labels, &whole_read), {axis, per_slice, rows});
+  if (shape.plane_axes == 2) ASSERT_EQ(whole_read, rows * shape.dims.back());
+  if (axis >= 0) expect_same_fractions(one.fractions, counted_fractions(labels, shape, axis));
+  if (per_slice) {
+    // Each slice's statistics, as those of a map of that slice alone.
+    BasinMapShape slice = shape;
+    slice.dims.erase(slice.dims.begin());
+    const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
+    ASSERT_EQ(one.per_slice.size(), static_cast<std::size_t>(shape.dims[0]));
+    for (std::int64_t v = 0; v < shape.dims[0]; ++v) {
+      const std::vector<BasinLabel> alone(labels.begin() + v * cells, labels.begin() + (v + 1) * cells);
+      expect_same(one.per_slice[static_cast<std::size_t>(v)],
+                  strip_statistics(slice, reader_of(alone), {-1, false, rows}).whole);
+    }
+  }
   for (std::int64_t strip : {1, 2, 3, 4, 7, 13, 64, 1000}) {
     SCOPED_TRACE(strip);
     std::int64_t largest_read = 0;
     const MapStatistics s = strip_statistics(shape, reader_of(labels, &largest_read),
                                              {axis, per_slice, strip});
-    expect_same(s.whole, whole);
-    if (axis >= 0) {
-      const auto fractions = fractions_along(labels, shape, axis);
-      ASSERT_EQ(s.fractions.size(), fractions.size());
-      for (std::size_t v = 0; v < fractions.size(); ++v) {
-        ASSERT_EQ(s.fractions[v].size(), fractions[v].size());
-        for (const auto& [label, f] : fractions[v]) EXPECT_TRUE(same_bits(s.fractions[v].at(label), f));
-      }
-    }
-    if (per_slice) {
-      BasinMapShape slice = shape;
-      slice.dims.erase(slice.dims.begin());
-      const auto cells = static_cast<std::ptrdiff_t>(labels.size()) / shape.dims[0];
-      ASSERT_EQ(s.per_slice.size(), static_cast<std::size_t>(shape.dims[0]));
-      for (std::int64_t v = 0; v < shape.dims[0]; ++v)
-        expect_same(s.per_slice[static_cast<std::size_t>(v)],
-                    basin_statistics(std::vector<BasinLabel>(labels.begin() + v * cells,
-                                                             labels.begin() + (v + 1) * cells),
-                                     slice));
-    }
+    expect_same(s.whole, one.whole);
+    if (axis >= 0) expect_same_fractions(s.fractions, one.fractions);
+    ASSERT_EQ(s.per_slice.size(), one.per_slice.size());
+    for (std::size_t v = 0; v < s.per_slice.size(); ++v) expect_same(s.per_slice[v], one.per_slice[v]);
     // O(band): with a thin band no read spans the plane (1-D planes aside: a row each).
     if (shape.plane_axes == 2 && strip < 64) {
       const std::int64_t row = shape.dims.back();
       EXPECT_LT(largest_read, 40 * row);
     }
   }
+}
+
+// Two basins split by a straight vertical line between columns C/2 − 1 and C/2, C/2 = 2 mod 5:
+// in every row of 5 × 5 boxes one box straddles it, 2 columns of one basin and 3 of the other,
+// so S_bb = h = −(0.4 ln 0.4 + 0.6 ln 0.6) and S_b = h / (boxes per row). A cell is uncertain at
+// ε when the line runs within ε of it: 2ε of the C − 2ε columns tested, f(ε) = 2ε / (C − 2ε),
+// whose log-log slope lies between 1 and 1 + 2ε/(C − 2ε) at the largest ε (the slope of
+// −ln(C − 2ε) against ln ε is 2ε/(C − 2ε), growing with ε): α → 1, a boundary of dimension 1.
+TEST(StripStatistics, StraightBoundaryInClosedForm) {
+  const std::int64_t rows = 40, columns = 64;
+  std::vector<BasinLabel> labels(static_cast<std::size_t>(rows * columns));
+  for (std::int64_t i = 0; i < rows * columns; ++i)
+    labels[static_cast<std::size_t>(i)] = i % columns < columns / 2 ? 1 : 2;
+  const BasinMapShape shape{{rows, columns}, 2};
+  const BasinStatistics s = test::statistics_of(labels, shape);
+  EXPECT_EQ(s.points, rows * columns);
+  EXPECT_EQ(s.cells, (std::map<int, std::int64_t>{{1, rows * columns / 2}, {2, rows * columns / 2}}));
+  const double h = -(0.4 * std::log(0.4) + 0.6 * std::log(0.6));
+  EXPECT_EQ(s.boxes, (rows / 5) * (columns / 5));
+  EXPECT_EQ(s.boundary_boxes, rows / 5);
+  EXPECT_NEAR(s.boundary_basin_entropy, h, 1e-15);
+  EXPECT_NEAR(s.basin_entropy, h / static_cast<double>(columns / 5), 1e-15);
+  EXPECT_EQ(s.epsilon_cells, (std::vector<int>{1, 2, 4}));  // 8ε within the 40 rows
+  ASSERT_EQ(s.uncertain_fraction.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double eps = s.epsilon_cells[k];
+    EXPECT_DOUBLE_EQ(s.uncertain_fraction[k], 2.0 * eps / (columns - 2.0 * eps)) << eps;
+  }
+  EXPECT_GT(s.uncertainty_exponent, 1.0);
+  EXPECT_LT(s.uncertainty_exponent, 1.0 + 8.0 / (columns - 8.0));
+  EXPECT_DOUBLE_EQ(s.boundary_dimension, 2.0 - s.uncertainty_exponent);
+  EXPECT_FALSE(s.wada.applies());  // two basins
+  expect_same_for_strips(labels, shape);
 }
 
 TEST(StripStatistics, TwoDimensionalPlaneWithUndecidedCells) {
@@ -116,7 +173,7 @@ TEST(StripStatistics, TwoDimensionalPlaneWithUndecidedCells) {
 
 TEST(StripStatistics, ManyBasinsAndWideEpsilon) {
   const std::vector<BasinLabel> labels = mixed_map(160 * 131, 131, 6, 2);
-  const BasinStatistics whole = basin_statistics(labels, {{160, 131}, 2});
+  const BasinStatistics whole = test::statistics_of(labels, {{160, 131}, 2});
   ASSERT_GE(whole.epsilon_cells.size(), 4u);  // ε = 1 … 16: bands far thinner than 2ε
   ASSERT_GT(whole.wada.boundary_cells, 0);     // six basins: the Wada test runs
   expect_same_for_strips(labels, {{160, 131}, 2});
@@ -138,22 +195,15 @@ TEST(StripStatistics, NoPlane) {
   expect_same_for_strips(labels, {{3, 11}, 0}, 0);
 }
 
-// Newton's basins of z³ = 1, a Wada boundary (tests/test_wada.cpp): the verdict and every count
-// of the merging method from bands of any height.
+// Newton's basins of z³ = 1, a Wada boundary (test_wada.cpp): the verdict and every count of the
+// merging method from bands of any height, down to bands thinner than the test's halo.
 TEST(StripStatistics, WadaBoundary) {
   const int n = 96;
-  std::vector<BasinLabel> labels(static_cast<std::size_t>(n) * n, 0);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) {
-      std::complex<double> z(-2.0 + 4.0 * (c + 0.5) / n, -2.0 + 4.0 * (r + 0.5) / n);
-      for (int k = 0; k < 60; ++k) z -= (z * z * z - 1.0) / (3.0 * z * z);
-      for (int j = 0; j < 3; ++j)
-        if (std::abs(z - std::polar(1.0, 2.0 * std::numbers::pi * j / 3.0)) < 1e-6)
-          labels[static_cast<std::size_t>(r) * n + c] = j + 1;
-    }
-  const BasinStatistics whole = basin_statistics(labels, {{n, n}, 2});
+  const std::vector<BasinLabel> labels = test::newton_basins(n);
+  const BasinStatistics whole = test::statistics_of(labels, {{n, n}, 2});
   ASSERT_EQ(whole.wada.planes_tested, 1);
   ASSERT_GT(whole.wada.boundary_cells, 100);
+  ASSERT_TRUE(whole.wada.wada()) << whole.wada.verdict();
   expect_same_for_strips(labels, {{n, n}, 2});
   expect_same_for_strips(labels, {{1, n, n}, 2}, 0);
 }

@@ -1,51 +1,25 @@
-// The Wada test (engine/wada_test.hpp) on label maps whose answer is known: Newton's method for
-// z³ = 1, whose three basins share one boundary (the Julia set: every boundary point of one
-// basin is a boundary point of all three), and three sectors meeting at a point, whose
-// boundaries meet only there.
+// The Wada test (engine/wada_test.hpp, run by engine/strip_statistics.hpp on every 2-D plane of
+// a map) on label maps whose answer is known: Newton's method for z³ = 1, whose three basins
+// share one boundary (the Julia set: every boundary point of one basin is a boundary point of
+// all three), and three sectors meeting at a point, whose boundaries meet only there.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <complex>
-#include <numbers>
 
-#include "engine/basin_statistics.hpp"
+#include "basin_maps.hpp"
 #include "engine/wada_test.hpp"
 
 namespace cs {
 namespace {
 
-// Basins of Newton's method for z³ = 1 over [−2, 2]², cell centres; 0 where it has not converged.
-std::vector<std::int32_t> newton_basins(int n) {
-  std::vector<std::int32_t> labels(static_cast<std::size_t>(n) * n, 0);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) {
-      std::complex<double> z(-2.0 + 4.0 * (c + 0.5) / n, -2.0 + 4.0 * (r + 0.5) / n);
-      for (int k = 0; k < 200; ++k) {
-        z -= (z * z * z - 1.0) / (3.0 * z * z);
-        for (int j = 0; j < 3; ++j)
-          if (std::abs(z - std::polar(1.0, 2.0 * std::numbers::pi * j / 3.0)) < 1e-9) {
-            labels[static_cast<std::size_t>(r) * n + c] = j + 1;
-            k = 200;
-          }
-      }
-    }
-  return labels;
-}
-
-// Three sectors of 120° around the centre of [−1, 1]².
-std::vector<std::int32_t> sectors(int n) {
-  std::vector<std::int32_t> labels(static_cast<std::size_t>(n) * n);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) {
-      const double angle = std::atan2(-1.0 + 2.0 * (r + 0.5) / n, -1.0 + 2.0 * (c + 0.5) / n) + std::numbers::pi;
-      labels[static_cast<std::size_t>(r) * n + c] = 1 + static_cast<int>(angle / (2.0 * std::numbers::pi / 3.0)) % 3;
-    }
-  return labels;
-}
+using test::newton_basins;
+using test::sectors;
+using test::statistics_of;
+using test::wada_of;
 
 TEST(WadaTest, NewtonsBasinsAreWadaAtEveryResolution) {
   for (int n : {128, 256}) {
-    const WadaTest w = wada_test(newton_basins(n), 1, n, n);
+    const WadaTest w = wada_of(newton_basins(n), 1, n);
     ASSERT_TRUE(w.applies());
     EXPECT_EQ(w.planes_tested, 1);
     EXPECT_TRUE(w.wada()) << n << ": " << w.verdict();
@@ -61,8 +35,8 @@ TEST(WadaTest, NewtonsBasinsAreWadaAtEveryResolution) {
 // centre: only a fixed number of cells near the centre is covered, out of a boundary whose length
 // grows like n. The covered fraction halves when n doubles.
 TEST(WadaTest, SectorsMeetingAtAPointAreNotWada) {
-  const WadaTest coarse = wada_test(sectors(256), 1, 256, 256);
-  const WadaTest fine = wada_test(sectors(512), 1, 512, 512);
+  const WadaTest coarse = wada_of(sectors(256), 1, 256);
+  const WadaTest fine = wada_of(sectors(512), 1, 512);
   for (const WadaTest* w : {&coarse, &fine}) {
     ASSERT_TRUE(w->applies());
     EXPECT_FALSE(w->wada()) << w->verdict();
@@ -76,11 +50,11 @@ TEST(WadaTest, UndecidedCellsAreLeftOutAndTwoBasinsAreNotTested) {
   std::vector<std::int32_t> labels = newton_basins(128);
   // Undecided cells sprinkled over the map change neither the verdict nor much the fraction.
   for (std::size_t i = 0; i < labels.size(); i += 97) labels[i] = 0;
-  const WadaTest sprinkled = wada_test(labels, 1, 128, 128);
+  const WadaTest sprinkled = wada_of(labels, 1, 128);
   EXPECT_TRUE(sprinkled.wada()) << sprinkled.verdict();
   // Two basins: basin 3 merged into 2.
   for (auto& l : labels) l = l == 3 ? 2 : l;
-  const WadaTest two = wada_test(labels, 1, 128, 128);
+  const WadaTest two = wada_of(labels, 1, 128);
   EXPECT_FALSE(two.applies());
   EXPECT_TRUE(std::isnan(two.touching_fraction()));
   EXPECT_NE(two.verdict().find("three basins or more"), std::string::npos);
@@ -89,22 +63,22 @@ TEST(WadaTest, UndecidedCellsAreLeftOutAndTwoBasinsAreNotTested) {
 // Planes are tested one by one and their counts added up.
 TEST(WadaTest, PlanesOfAMapAreCountedTogether) {
   std::vector<std::int32_t> labels = newton_basins(128);
-  const WadaTest one = wada_test(labels, 1, 128, 128);
+  const WadaTest one = wada_of(labels, 1, 128);
   const std::vector<std::int32_t> second = sectors(128);
   labels.insert(labels.end(), second.begin(), second.end());
-  const WadaTest both = wada_test(labels, 2, 128, 128);
-  const WadaTest alone = wada_test(second, 1, 128, 128);
+  const WadaTest both = wada_of(labels, 2, 128);
+  const WadaTest alone = wada_of(second, 1, 128);
   EXPECT_EQ(both.planes_tested, 2);
   EXPECT_EQ(both.boundary_cells, one.boundary_cells + alone.boundary_cells);
   EXPECT_EQ(both.covered[2], one.covered[2] + alone.covered[2]);
 }
 
-// basin_statistics runs the test on the planes of a 2-D map of initial conditions, per slice of
-// the leading axes.
+// The statistics of a map run the test on the planes of a 2-D map of initial conditions, per
+// slice of the leading axes.
 TEST(WadaTest, BasinStatisticsCarriesIt) {
-  const BasinStatistics s = basin_statistics(newton_basins(128), {{128, 128}, 2});
+  const BasinStatistics s = statistics_of(newton_basins(128), {{128, 128}, 2});
   EXPECT_TRUE(s.wada.wada());
-  const BasinStatistics line = basin_statistics(newton_basins(128), {{128 * 128}, 1});
+  const BasinStatistics line = statistics_of(newton_basins(128), {{128 * 128}, 1});
   EXPECT_FALSE(line.wada.applies());
 }
 

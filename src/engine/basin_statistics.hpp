@@ -1,13 +1,12 @@
 // What a basin map says beyond its labels: the fraction of each basin, how mixed the basins are
 // (basin entropy S_b and boundary basin entropy S_bb, Daza et al., Sci. Rep. 6, 31416, 2016),
 // and how fast the uncertain set shrinks with the resolution (the uncertainty exponent α of
-// McDonald, Grebogi, Ott & Yorke, Physica D 17, 125, 1985; boundary dimension D − α).
+// McDonald, Grebogi, Ott & Yorke, Physica D 17, 125, 1985; boundary dimension D − α). What
+// the numbers are; engine/strip_statistics.hpp computes them.
 #pragma once
 
 #include <cstdint>
-#include <cmath>
 #include <map>
-#include <utility>
 #include <vector>
 
 #include "engine/wada_test.hpp"
@@ -39,38 +38,5 @@ struct BasinStatistics {
   double boundary_dimension = 0.0;
   WadaTest wada;  // over every 2-D plane with three basins or more (engine/wada_test.hpp)
 };
-
-BasinStatistics basin_statistics(const std::vector<BasinLabel>& labels, const BasinMapShape& shape);
-
-// Fractions of each label per value of one axis (a continuation): fractions[value][label].
-std::vector<std::map<int, double>> fractions_along(const std::vector<BasinLabel>& labels,
-                                                   const BasinMapShape& shape, int axis);
-
-// The parts the statistics read a band at a time share (engine/strip_statistics.hpp).
-namespace basin_detail {
-// The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
-// cost ~10 ms on a 512² map).
-struct BoxCounts {
-  std::vector<std::pair<int, int>> counts;
-  void add(int label) {
-    for (auto& [l, n] : counts)
-      if (l == label) {
-        ++n;
-        return;
-      }
-    counts.emplace_back(label, 1);
-  }
-  double entropy(int total) const {
-    double s = 0.0;
-    for (const auto& [label, n] : counts) {
-      const double p = static_cast<double>(n) / total;
-      s -= p * std::log(p);
-    }
-    return s;
-  }
-};
-// Least-squares slope of log f against log ε over the points with f > 0 (NaN under 3).
-double log_log_slope(const std::vector<int>& eps, const std::vector<double>& f);
-}  // namespace basin_detail
 
 }  // namespace cs

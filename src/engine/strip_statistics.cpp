@@ -1,7 +1,10 @@
 #include "engine/strip_statistics.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numeric>
+#include <utility>
 
 #include "engine/wada_test.hpp"
 
@@ -10,8 +13,45 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
+// cost ~10 ms on a 512² map).
+struct BoxCounts {
+  std::vector<std::pair<int, int>> counts;
+  void add(int label) {
+    for (auto& [l, n] : counts)
+      if (l == label) {
+        ++n;
+        return;
+      }
+    counts.emplace_back(label, 1);
+  }
+  double entropy(int total) const {
+    double s = 0.0;
+    for (const auto& [label, n] : counts) {
+      const double p = static_cast<double>(n) / total;
+      s -= p * std::log(p);
+    }
+    return s;
+  }
+};
+
+// Least-squares slope of log f against log ε over the points with f > 0 (NaN under 3).
+double log_log_slope(const std::vector<int>& eps, const std::vector<double>& f) {
+  std::vector<double> x, y;
+  for (std::size_t k = 0; k < eps.size(); ++k)
+    if (f[k] > 0.0) x.push_back(std::log(eps[k])), y.push_back(std::log(f[k]));
+  if (x.size() < 3) return kNaN;
+  const double n = static_cast<double>(x.size());
+  const double mx = std::accumulate(x.begin(), x.end(), 0.0) / n;
+  const double my = std::accumulate(y.begin(), y.end(), 0.0) / n;
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    sxy += (x[k] - mx) * (y[k] - my), sxx += (x[k] - mx) * (x[k] - mx);
+  return sxy / sxx;
+}
+
 // Cells per label, in an array from the lowest label met (labels are few and close together:
-// -1 to the number of attractors, as in basin_statistics).
+// -1, the double well's left well, to the number of attractors).
 class LabelCounts {
  public:
   void add(BasinLabel label, std::int64_t n = 1) {
@@ -65,7 +105,7 @@ BasinStatistics finish(const Tally& t, int plane_axes, const std::vector<int>& e
         t.eps_cells[k] > 0
             ? static_cast<double>(t.eps_uncertain[k]) / static_cast<double>(t.eps_cells[k])
             : kNaN);
-  out.uncertainty_exponent = basin_detail::log_log_slope(out.epsilon_cells, out.uncertain_fraction);
+  out.uncertainty_exponent = log_log_slope(out.epsilon_cells, out.uncertain_fraction);
   out.boundary_dimension = plane_axes - out.uncertainty_exponent;
   out.wada = t.wada;
   return out;
@@ -198,12 +238,13 @@ class StripPass {
     if (mine) add_wada(mine->wada, wada);
   }
 
-  // The boxes whose first row is in [first, end), in basin_statistics's order.
+  // The boxes whose first row is in [first, end): over the bands, slice by slice, row of boxes by
+  // row, column by column, whatever the band height (the sum of their entropies keeps its bits).
   void boxes(const BasinLabel* band, std::int64_t first, std::int64_t end, std::int64_t box_rows, Tally* mine) {
     const std::int64_t e = 5;
     for (std::int64_t r0 = (first + box_rows - 1) / box_rows * box_rows; r0 < end && r0 + box_rows <= rows_; r0 += box_rows)
       for (std::int64_t c0 = 0; c0 + e <= columns_; c0 += e) {
-        basin_detail::BoxCounts box;
+        BoxCounts box;
         for (std::int64_t r = r0; r < r0 + box_rows; ++r)
           for (std::int64_t c = c0; c < c0 + e; ++c) box.add(band[(r - first) * columns_ + c]);
         const double entropy = box.entropy(static_cast<int>(box_rows * e));
@@ -227,7 +268,7 @@ class StripPass {
   }
 
   // Cells of rows [first, end) with every neighbour ε away inside the plane: uncertain if one
-  // of them differs (basin_statistics's uncertain_fraction, as counts).
+  // of them differs (BasinStatistics::uncertain_fraction, as counts).
   void uncertain(std::int64_t s, std::size_t k, const std::vector<BasinLabel>& band, std::int64_t first,
                  std::int64_t end, std::vector<BasinLabel>& above, std::vector<BasinLabel>& below, Tally* mine) {
     const std::int64_t eps = eps_[k];

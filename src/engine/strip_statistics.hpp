@@ -1,10 +1,10 @@
-// The statistics of a basin map (basin_statistics.hpp) read a band of rows at a time, so that
+// The statistics of a basin map (basin_statistics.hpp), read a band of rows at a time, so that
 // the process that computes them holds O(band), not O(map): rank 0 reads the labels back from
-// the output file it has just written them to (parallel/basin_summary.cpp). Same numbers, bit
-// for bit, as basin_statistics and fractions_along on the whole map: every count is an integer
-// (cells per label, uncertain cells per ε, the Wada test's cells), and the one sum of doubles,
-// the boxes' entropies, is added box by box in the whole-map function's order (slice, row of
-// boxes, column).
+// the output file it has just written them to (parallel/basin_summary.cpp). The numbers do not
+// depend on the band height, bit for bit: every count is an integer (cells per label, uncertain
+// cells per ε, the Wada test's cells), and the one sum of doubles, the boxes' entropies, is
+// added box by box in one order (slice, row of boxes, column) whatever the cut. A map held in
+// memory is read through a reader over its array (tests/basin_maps.hpp).
 #pragma once
 
 #include <cstdint>
@@ -21,14 +21,16 @@ namespace cs {
 using LabelReader = std::function<void(std::int64_t begin, std::int64_t end, BasinLabel* out)>;
 
 struct MapStatistics {
-  BasinStatistics whole;                                   // basin_statistics(map)
-  std::vector<std::map<int, double>> fractions;            // fractions_along(map, axis), axis >= 0
-  std::vector<BasinStatistics> per_slice;                  // per value of axis 0, if asked
+  BasinStatistics whole;
+  // Along options.fractions_axis (a continuation): fractions[value][label], each the label's
+  // cells over the value's cells.
+  std::vector<std::map<int, double>> fractions;
+  std::vector<BasinStatistics> per_slice;  // per value of axis 0, if asked
 };
 
 struct StripOptions {
   int fractions_axis = -1;  // fractions along this axis (-1: none)
-  // basin_statistics of each slice along axis 0 on its own (a grid of that axis and the plane).
+  // The statistics of each slice along axis 0 on its own (a grid of that axis and the plane).
   bool per_slice = false;
   // Rows of the plane counted per band (0: about kStripCells cells). A 1-D plane is one row:
   // its band is the row, whatever its length.

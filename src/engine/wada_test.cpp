@@ -36,9 +36,13 @@ void chessboard_distance(const std::vector<char>& seed, std::int64_t rows, std::
     }
 }
 
+}  // namespace
+
+namespace wada_detail {
+
 // The plane's labels met in order (a map has few: a linear search per cell, and the one met
-// last first), unsorted; it stops one past kWadaMaxBasins.
-void collect(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins) {
+// last first).
+void collect_basins(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins) {
   std::int32_t last = 0;
   for (std::size_t i = 0; i < cells; ++i) {
     if (labels[i] == 0 || labels[i] == last) continue;
@@ -46,14 +50,6 @@ void collect(const std::int32_t* labels, std::size_t cells, std::vector<std::int
     if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) return;
     if (std::find(basins.begin(), basins.end(), last) == basins.end()) basins.push_back(last);
   }
-}
-
-}  // namespace
-
-namespace wada_detail {
-
-void collect_basins(const std::int32_t* labels, std::size_t cells, std::vector<std::int32_t>& basins) {
-  collect(labels, cells, basins);
 }
 
 void count_rows(const std::int32_t* band, std::int64_t band_first, std::int64_t rows,
@@ -111,23 +107,6 @@ void count_rows(const std::int32_t* band, std::int64_t band_first, std::int64_t 
 
 }  // namespace wada_detail
 
-namespace {
-
-void test_plane(const std::int32_t* labels, std::int64_t rows, std::int64_t columns, WadaTest& out) {
-  std::vector<std::int32_t> basins;
-  collect(labels, static_cast<std::size_t>(rows * columns), basins);
-  std::sort(basins.begin(), basins.end());
-  if (basins.size() < 3) return;
-  if (basins.size() > static_cast<std::size_t>(kWadaMaxBasins)) {
-    ++out.planes_too_many;
-    return;
-  }
-  ++out.planes_tested;
-  wada_detail::count_rows(labels, 0, rows, columns, 0, rows, basins, out);
-}
-
-}  // namespace
-
 double WadaTest::touching_fraction() const {
   return applies() ? static_cast<double>(touching_all) / static_cast<double>(boundary_cells)
                    : std::numeric_limits<double>::quiet_NaN();
@@ -155,14 +134,6 @@ std::string WadaTest::verdict() const {
       "neighbourhood",
       wada() ? "Wada" : "not Wada", covered_fraction(kWadaVerdictRadius), boundary_cells,
       kWadaVerdictRadius, kWadaVerdictFraction, touching_fraction());
-}
-
-WadaTest wada_test(const std::vector<std::int32_t>& labels, std::int64_t planes, std::int64_t rows,
-                   std::int64_t columns) {
-  WadaTest out;
-  for (std::int64_t p = 0; p < planes; ++p)
-    test_plane(labels.data() + p * rows * columns, rows, columns, out);
-  return out;
 }
 
 }  // namespace cs

@@ -40,11 +40,8 @@ inline constexpr int kWadaMaxBasins = 64;
 inline constexpr int kWadaVerdictRadius = 3;
 inline constexpr double kWadaVerdictFraction = 0.95;
 
-// `labels` holds `planes` planes of rows × columns cells, row-major (0: undecided).
-WadaTest wada_test(const std::vector<std::int32_t>& labels, std::int64_t planes, std::int64_t rows,
-                   std::int64_t columns);
-
-// The test's parts, for a plane read a band of rows at a time (engine/strip_statistics.hpp).
+// The test's parts, for a plane read a band of rows at a time (engine/strip_statistics.hpp runs
+// it on every 2-D plane of a map, 0 standing for undecided cells).
 namespace wada_detail {
 // Rows of labels a band needs on each side of the rows it counts: kWadaMaxRadius for the capped
 // distance, one for the seeds' neighbourhood, one for theirs.

@@ -3,7 +3,7 @@
 // (mapper_set.hpp), which calls them in a fixed order, and every mapper writes the same thing
 // when a lane settles: a point of its attractor and the period (Settlement). What is computed on
 // the settled points is written once for all mappers: the attractor table and its labels
-// (attractor_table.cpp, label_rule.hpp), fractions and statistics (basin_statistics.cpp).
+// (attractor_table.cpp, label_rule.hpp), fractions and statistics (strip_statistics.cpp).
 //
 // A mapper M, built from the plan (RunPlan) and the runner's uniform parameters, provides
 //   bool active() const                   whether this run uses it (the others cost nothing);
