@@ -116,6 +116,11 @@ struct HeldValues {
   double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
 };
 
+// The distinct entries a block of a recurrence map is counted to keep (lane_records.hpp): an
+// estimate, not a bound. The lanes of one attractor mostly share a record; a map whose lanes
+// nearly all differ (a chaotic set's sketches) keeps up to one a lane, as every lane did before.
+constexpr double kRecurrenceEntries = 256.0;
+
 HeldValues held_values(const RunPlan& plan) {
   HeldValues held;
   for (const auto& column : streamed_columns(plan))
@@ -130,6 +135,16 @@ HeldValues held_values(const RunPlan& plan) {
       held.per_point_in_flight += 0.5 * static_cast<double>(column.width);
     }
     if (!column.internal) continue;
+    // The recurrence mapper's record and reason: per point in flight, then only each block's
+    // distinct entries (engine/recurrence/lane_records.hpp), counted here as kRecurrenceEntries
+    // a block with their settlement, and the block's counts per reason.
+    if (static_cast<int>(k) == plan.map.basin_cells || static_cast<int>(k) == plan.map.undecided_reason) {
+      held.per_point_in_flight += static_cast<double>(column.width);
+      held.per_block_kept += static_cast<int>(k) == plan.map.basin_cells
+                                 ? kRecurrenceEntries * (column.width + 2 * plan.scene.dof + 2.0)
+                                 : kUndecidedReasons;
+      continue;
+    }
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
     else held.per_point_kept += static_cast<double>(column.width);
   }
