@@ -186,7 +186,8 @@ std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0
 // Collective. Refuses, before any work, a run whose results cannot fit. A rank holds its blocks
 // in flight (being computed by its threads, queued for the journal, queued for the output: at
 // most about two per thread and the journal's queue) and, on a basin map, each block's labels
-// (compact: engine/basin_column.hpp) and internal columns until the end; rank 0 also reads one
+// (compact: engine/basin_column.hpp) and internal columns until the end (the recurrence
+// mapper's per distinct entry once saved: engine/recurrence/lane_records.hpp); rank 0 also reads one
 // band of the map back from the file at a time for the statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
 // budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,
