@@ -116,10 +116,10 @@ struct HeldValues {
   double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
 };
 
-// The distinct entries a block of a recurrence map is counted to keep (lane_records.hpp): an
-// estimate, not a bound. The lanes of one attractor mostly share a record; a map whose lanes
-// nearly all differ (a chaotic set's sketches) keeps up to one a lane, as every lane did before.
-constexpr double kRecurrenceEntries = 256.0;
+// The distinct entries a block of a recurrence map is counted to keep (lane_records.hpp), per
+// point: the lanes of a limit cycle share one record, but those of a strange attractor mostly
+// differ in their sketches (the chaotic forced Duffing map keeps 0.45 entries a lane).
+constexpr double kRecurrenceEntriesPerPoint = 0.5;
 
 HeldValues held_values(const RunPlan& plan) {
   HeldValues held;
@@ -136,13 +136,13 @@ HeldValues held_values(const RunPlan& plan) {
     }
     if (!column.internal) continue;
     // The recurrence mapper's record and reason: per point in flight, then only each block's
-    // distinct entries (engine/recurrence/lane_records.hpp), counted here as kRecurrenceEntries
-    // a block with their settlement, and the block's counts per reason.
+    // distinct entries (engine/recurrence/lane_records.hpp: a record, a copy of its settlement
+    // and a reason each) and its counts per reason.
     if (static_cast<int>(k) == plan.map.basin_cells || static_cast<int>(k) == plan.map.undecided_reason) {
       held.per_point_in_flight += static_cast<double>(column.width);
-      held.per_block_kept += static_cast<int>(k) == plan.map.basin_cells
-                                 ? kRecurrenceEntries * (column.width + 2 * plan.scene.dof + 2.0)
-                                 : kUndecidedReasons;
+      if (static_cast<int>(k) == plan.map.basin_cells)
+        held.per_point_kept += kRecurrenceEntriesPerPoint * (column.width + 2 * plan.scene.dof + 2.0);
+      else held.per_block_kept += kUndecidedReasons;
       continue;
     }
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
