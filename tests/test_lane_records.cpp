@@ -15,8 +15,8 @@
 #include "engine/recurrence/lane_records.hpp"
 #include "engine/run_plan.hpp"
 #include "io/spec_parser.hpp"
-#include "physics/scene_catalog.hpp"
 #include "numerics/method_catalog.hpp"
+#include "physics/scene_catalog.hpp"
 
 namespace cs {
 namespace {
@@ -53,7 +53,9 @@ TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) 
   const auto plan = plan_of(spec);
   ASSERT_GE(plan->map.basin_cells, 0);
   BlockResults block({10, 16}, plan->columns);
-  const auto at = [&](int c) -> std::vector<double>& { return block.columns[static_cast<std::size_t>(c)]; };
+  const auto at = [&](int c) -> std::vector<double>& {
+    return block.columns[static_cast<std::size_t>(c)];
+  };
   const double nan = std::nan("");
   // Two settlements: a fixed point (period 1) and a recurrence's cell centre (period 0).
   at(plan->map.basin_records) = {-1.0, 0.0, 1.0, 0.5, 0.5, 0.0};
@@ -65,7 +67,8 @@ TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) 
   b[0] = 7, b[1] = 4, b[2] = 7, b[3] = 9, b[4] = 12, b[5] = 13;
   auto& cells = at(plan->map.basin_cells);
   cells.clear();
-  for (const auto* r : {&none, &none, &a, &b, &a, &none}) cells.insert(cells.end(), r->begin(), r->end());
+  for (const auto* r : {&none, &none, &a, &b, &a, &none})
+    cells.insert(cells.end(), r->begin(), r->end());
   at(plan->map.undecided_reason) = {1.0, 0.0, 0.0, 0.0, 0.0, 3.0};
   compact_basin(*plan, block);
   const ExpandedBasin provisional(*plan, block);
@@ -104,9 +107,11 @@ Outcome map_in_blocks(const RunPlan& plan, std::int64_t size, bool compact) {
   std::vector<std::unique_ptr<BlockResults>> blocks;
   Outcome out;
   for (std::int64_t b = 0; b < plan.grid.size(); b += size) {
-    blocks.push_back(std::make_unique<BlockResults>(PointRange{b, std::min(plan.grid.size(), b + size)}, plan.columns));
+    blocks.push_back(std::make_unique<BlockResults>(
+        PointRange{b, std::min(plan.grid.size(), b + size)}, plan.columns));
     run_block(plan, *blocks.back());
-    for (double v : blocks.back()->columns[static_cast<std::size_t>(plan.map.basin)]) out.settled += v != 0.0;
+    for (double v : blocks.back()->columns[static_cast<std::size_t>(plan.map.basin)])
+      out.settled += v != 0.0;
     if (compact) compact_basin(plan, *blocks.back());
     out.lanes += static_cast<std::size_t>(blocks.back()->range.end - b);
     out.entries += blocks.back()->columns[static_cast<std::size_t>(plan.map.basin_cells)].size() /
@@ -120,7 +125,8 @@ Outcome map_in_blocks(const RunPlan& plan, std::int64_t size, bool compact) {
   out.table = merge_candidates(plan, out.candidates);
   for (auto& block : blocks) {
     const ExpandedBasin labels(plan, *block, true);
-    const std::vector<double> provisional = block->columns[static_cast<std::size_t>(plan.map.basin)];
+    const std::vector<double> provisional =
+        block->columns[static_cast<std::size_t>(plan.map.basin)];
     label_block(plan, out.table.attractors, *block, out.table.along);
     count_undecided(plan, *block, provisional, out.undecided.data());
     const auto& l = block->columns[static_cast<std::size_t>(plan.map.basin)];
@@ -160,7 +166,7 @@ TEST(LaneRecords, CompactedBlocksGiveTheSameTableLabelsAndReasons) {
   std::int64_t counted = 0;
   for (std::int64_t n : whole.undecided) counted += n;
   EXPECT_EQ(counted, undecided);
-  EXPECT_EQ(whole.entries, whole.lanes);  // per point: a record a lane
+  EXPECT_EQ(whole.entries, whole.lanes);            // per point: a record a lane
   EXPECT_LT(compact.entries * 4, compact.settled);  // 38 of 516 settled lanes when written
 }
 

@@ -138,10 +138,11 @@ HeldValues held_values(const RunPlan& plan) {
     // The recurrence mapper's record and reason: per point in flight, then only each block's
     // distinct entries (engine/recurrence/lane_records.hpp: a record, a copy of its settlement
     // and a reason each) and its counts per reason.
-    if (static_cast<int>(k) == plan.map.basin_cells || static_cast<int>(k) == plan.map.undecided_reason) {
+    const int index = static_cast<int>(k);
+    if (index == plan.map.basin_cells || index == plan.map.undecided_reason) {
       held.per_point_in_flight += static_cast<double>(column.width);
-      if (static_cast<int>(k) == plan.map.basin_cells)
-        held.per_point_kept += kRecurrenceEntriesPerPoint * (column.width + 2 * plan.scene.dof + 2.0);
+      const double entry = static_cast<double>(column.width + 2 * plan.scene.dof + 2);
+      if (index == plan.map.basin_cells) held.per_point_kept += kRecurrenceEntriesPerPoint * entry;
       else held.per_block_kept += kUndecidedReasons;
       continue;
     }

@@ -45,14 +45,18 @@ struct Layout {
 
 Layout layout_of(const RunPlan& plan, const BlockResults& block) {
   const auto width = static_cast<std::size_t>(2 * plan.scene.dof + 1);
-  const std::size_t entries = block.columns[static_cast<std::size_t>(plan.map.basin_cells)].size() / kRecord;
-  return {block.columns[static_cast<std::size_t>(plan.map.basin_records)].size() / width - entries, entries};
+  const std::size_t entries =
+      block.columns[static_cast<std::size_t>(plan.map.basin_cells)].size() / kRecord;
+  return {block.columns[static_cast<std::size_t>(plan.map.basin_records)].size() / width - entries,
+          entries};
 }
 
 // The entry (0-based) of a settled lane's provisional value, or `entries` for none.
 std::size_t entry_of(double provisional, const Layout& layout) {
-  if (!(provisional >= 1.0) || provisional > static_cast<double>(layout.settlements + layout.entries))
-    throw std::logic_error("a lane's recurrence entry is missing from its block");  // never, short of a bug
+  if (!(provisional >= 1.0) ||
+      provisional > static_cast<double>(layout.settlements + layout.entries))
+    throw std::logic_error(
+        "a lane's recurrence entry is missing from its block");  // never, short of a bug
   const auto number = static_cast<std::size_t>(provisional);
   return number <= layout.settlements ? layout.entries : number - layout.settlements - 1;
 }
@@ -86,8 +90,8 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
       basin[i] = last_number;
       continue;
     }
-    const auto [it, added] = numbers.try_emplace(
-        key, static_cast<double>(count_of_settlements + numbers.size() + 1));
+    const auto [it, added] =
+        numbers.try_emplace(key, static_cast<double>(count_of_settlements + numbers.size() + 1));
     if (added) {
       const auto number = static_cast<std::size_t>(basin[i]);
       if (!(basin[i] >= 1.0) || number > count_of_settlements)  // never, short of a bug
@@ -100,7 +104,8 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
     last = key;
     basin[i] = last_number = it->second;
   }
-  for (int r = 0; r < kUndecidedReasons; ++r) why[static_cast<std::size_t>(r)] = static_cast<double>(unsettled[r]);
+  for (int r = 0; r < kUndecidedReasons; ++r)
+    why[static_cast<std::size_t>(r)] = static_cast<double>(unsettled[r]);
   settlements.resize(count_of_settlements * width);
   settlements.insert(settlements.end(), copies.begin(), copies.end());
   cells = std::move(records);
@@ -108,12 +113,14 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
   settlements.shrink_to_fit(), cells.shrink_to_fit(), reasons.shrink_to_fit();
 }
 
-const double* recurrence_record_of(const RunPlan& plan, const BlockResults& block, std::size_t lane) {
+const double* recurrence_record_of(const RunPlan& plan, const BlockResults& block,
+                                   std::size_t lane) {
   static const std::vector<double> none(kRecord, std::nan(""));
   const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
   if (!compacted(plan, block)) return &cells[lane * kRecord];
   const Layout layout = layout_of(plan, block);
-  const std::size_t entry = entry_of(block.columns[static_cast<std::size_t>(plan.map.basin)][lane], layout);
+  const std::size_t entry =
+      entry_of(block.columns[static_cast<std::size_t>(plan.map.basin)][lane], layout);
   return entry == layout.entries ? none.data() : &cells[entry * kRecord];
 }
 
@@ -127,7 +134,8 @@ void count_undecided(const RunPlan& plan, const BlockResults& block,
       if (labels[i] == 0.0) count(reasons[i], counts);
     return;
   }
-  for (int r = 0; r < kUndecidedReasons; ++r) counts[r] += static_cast<std::int64_t>(reasons[static_cast<std::size_t>(r)]);
+  for (int r = 0; r < kUndecidedReasons; ++r)
+    counts[r] += static_cast<std::int64_t>(reasons[static_cast<std::size_t>(r)]);
   const Layout layout = layout_of(plan, block);
   for (std::size_t i = 0; i < labels.size(); ++i) {  // settled, yet on no attractor of the table
     if (labels[i] != 0.0 || provisional[i] == 0.0) continue;

@@ -31,7 +31,8 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block);
 
 // The record of a lane that settled (provisional `basin` value not 0); `lane` counts from the
 // block's first point.
-const double* recurrence_record_of(const RunPlan& plan, const BlockResults& block, std::size_t lane);
+const double* recurrence_record_of(const RunPlan& plan, const BlockResults& block,
+                                   std::size_t lane);
 
 // Adds to `counts` (kUndecidedReasons) the block's undecided lanes (label 0) per reason, once it
 // is labelled; `provisional` is its `basin` before it was labelled.
