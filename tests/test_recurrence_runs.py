@@ -15,12 +15,14 @@ candidates of several blocks, and of two ranks, are merged, and:
     lowest q2 (keys run q1 fastest, then q2, p1, p2; p = 0 is one cell): within a cell of the
     cycle's minimum of q2 computed here with scipy's DOP853 (an independent integrator), and p
     at the centre of the cell holding 0;
-  * the file is the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads;
+  * the file is the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads, and (t_end = 300:
+    lanes settled and undecided) for a run killed after 2 blocks and resumed on 2 ranks;
   * undecided lanes say why: with t_end too short for `recurrences` revisits every lane is
     "no recurrence by t_end"; with a box the cycle never enters, every lane "left the box"; a
     `period` given for this K without t is named as the likely mistake.
 """
 import os
+import subprocess
 import sys
 
 import h5py
@@ -91,6 +93,30 @@ if out:
         other, _ = run(VDP.format(t_end=T_END, basin=BASIN), name, ranks=ranks, threads=threads)
         if other:
             runs.same_bits(f"{name} has the bits of 1x1", out, other)
+
+# Killed after its second saved block and resumed on 2 ranks: the blocks loaded from the journal
+# hold the mapper's records and reasons compact as the computed ones do (lane_records.hpp), and
+# the file, labels and basin_undecided included, is the uninterrupted run's. t_end = 300 leaves
+# some lanes settled and some undecided.
+MIXED = VDP.format(t_end=300.0, basin=BASIN)
+mixed, _ = run(MIXED, "vdp_mixed")
+if mixed:
+    with h5py.File(mixed, "r") as f:
+        basin = f["basin"][...]
+        check("t_end = 300: lanes settled and lanes undecided, with reasons",
+              0 < np.count_nonzero(basin) < basin.size and "basin_undecided" in f.attrs,
+              f"labels {np.unique(basin, return_counts=True)}, {f.attrs.get('basin_undecided')}")
+    killed, result = runs.launch(MIXED, "vdp_resumed", env_extra={"CONTACTSWEEP_TEST_KILL": "block:2"},
+                                 expect=-9)
+    if killed is not None:  # --resume, without the --force every launch passes
+        env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+                   OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        resume = subprocess.run([mpiexec, "--oversubscribe", "-np", "2", "--bind-to", "none", binary,
+                                 "run", os.path.join(work, "vdp_resumed.toml"), "-o", killed,
+                                 "--resume", "--quiet"], env=env, capture_output=True, text=True)
+        check("the killed run resumes on 2 ranks", resume.returncode == 0, resume.stderr[-1500:])
+        if resume.returncode == 0:
+            runs.same_bits("killed after 2 blocks, resumed on 2 ranks: the bits of 1x1", mixed, killed)
 
 # Too short for the recurrences: 30 time units are ~94 looks, fewer than 100 revisits.
 short, log = run(VDP.format(t_end=30.0, basin=BASIN), "vdp_short")

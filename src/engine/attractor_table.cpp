@@ -10,6 +10,7 @@
 #include "engine/attractor_continuation.hpp"
 #include "engine/attractor_search.hpp"
 #include "engine/label_rule.hpp"
+#include "engine/recurrence/lane_records.hpp"
 #include "engine/recurrence/recurrence_table.hpp"
 #include "engine/settlement_records.hpp"
 
@@ -189,8 +190,7 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
     const std::vector<Attractor>& table =
         along.empty() ? whole : along[static_cast<std::size_t>(value)];
     if (by_recurrence(plan, point)) {
-      const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
-      label = recurrence_label(table, &cells[static_cast<std::size_t>(i) * RecurrenceSearch::kRecordWidth]);
+      label = recurrence_label(table, recurrence_record_of(plan, block, static_cast<std::size_t>(i)));
       continue;
     }
     if (point == previous) {

@@ -3,9 +3,12 @@
 // attractor table of every block turns them into labels. Held as doubles they cost 8 bytes a
 // point of each rank's blocks; once the block is saved in the journal they are held compact
 // (CompactColumn: 1 byte a point while a block has under 128 distinct settlements, as on every
-// map of few attractors) and expanded one block at a time by what reads them at the end.
+// map of few attractors) and expanded one block at a time by what reads them at the end. Where
+// the recurrence mapper runs, its per-point columns are held compact from then on too
+// (recurrence/lane_records.hpp), and the provisional values number the block's entries there.
 #pragma once
 
+#include "engine/recurrence/lane_records.hpp"
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
 
@@ -15,6 +18,7 @@ namespace cs {
 // until the end. Safe beside a thread that reads the block's other columns.
 inline void compact_basin(const RunPlan& plan, BlockResults& block) {
   if (plan.map.basin < 0 || block.basin_compacted) return;
+  compact_recurrence_columns(plan, block);  // reads and renumbers the provisional values
   auto& column = block.columns[static_cast<std::size_t>(plan.map.basin)];
   block.compact_basin.assign(column);
   std::vector<double>().swap(column);

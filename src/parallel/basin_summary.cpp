@@ -9,6 +9,7 @@
 
 #include "engine/attractor_continuation.hpp"
 #include "engine/basin_column.hpp"
+#include "engine/recurrence/lane_records.hpp"
 #include "engine/strip_statistics.hpp"
 #include "mpi/comm.hpp"
 #include "parallel/undecided_summary.hpp"
@@ -164,12 +165,19 @@ BasinSummary summarise_basins(const RunPlan& whole,
                     [&](const Attractor& a) { return a.label >= -limit && a.label <= limit; }))
       break;
   }
+  // The undecided lanes per reason, counted as each block is labelled (its provisional values
+  // name the reasons of its settled lanes: recurrence/lane_records.hpp).
+  std::vector<std::int64_t> undecided(kUndecidedReasons, 0);
+  std::vector<double> provisional;
   for (auto& block : results) {
     const ExpandedBasin labels(whole, *block, true);
+    if (whole.map.undecided_reason >= 0)
+      provisional = block->columns[static_cast<std::size_t>(whole.map.basin)];
     label_block(whole, summary.table, *block, summary.along);
+    count_undecided(whole, *block, provisional, undecided.data());
   }
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
-  summary.undecided = undecided_reasons(whole, results, comm);
+  summary.undecided = undecided_reasons(whole, undecided, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   return summary;
 }

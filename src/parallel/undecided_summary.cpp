@@ -1,7 +1,5 @@
 #include "parallel/undecided_summary.hpp"
 
-#include "engine/basin_column.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -12,22 +10,10 @@
 
 namespace cs {
 
-std::string undecided_reasons(const RunPlan& whole,
-                              const std::vector<std::unique_ptr<BlockResults>>& results,
+std::string undecided_reasons(const RunPlan& whole, std::vector<std::int64_t> counts,
                               MPI_Comm comm) {
   if (whole.map.undecided_reason < 0) return "";
-  std::int64_t counts[kUndecidedReasons] = {};
-  for (const auto& block : results) {
-    const ExpandedBasin provisional(whole, *block);
-    const auto& labels = block->columns[static_cast<std::size_t>(whole.map.basin)];
-    const auto& reasons = block->columns[static_cast<std::size_t>(whole.map.undecided_reason)];
-    for (std::size_t i = 0; i < labels.size(); ++i) {
-      const double why = reasons[i];
-      if (labels[i] == 0.0 && why >= 0.0 && why < kUndecidedReasons)
-        ++counts[static_cast<int>(why)];
-    }
-  }
-  allreduce(comm, counts, kUndecidedReasons, MPI_INT64_T, MPI_SUM);
+  allreduce(comm, counts.data(), kUndecidedReasons, MPI_INT64_T, MPI_SUM);
   static const char* const what[kUndecidedReasons] = {
       "settled on no attractor in the table",
       "no recurrence by t_end (a longer t_end, larger cells: measures.basin.cell_size, or fewer "

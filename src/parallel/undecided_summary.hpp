@@ -5,19 +5,18 @@
 
 #include <mpi.h>
 
-#include <memory>
+#include <cstdint>
 #include <string>
 #include <vector>
 
-#include "engine/results.hpp"
 #include "engine/run_plan.hpp"
 
 namespace cs {
 
-// Collective; after the blocks are labelled. "" when every lane settled or the run does not
+// Collective, from this rank's counts of undecided lanes per reason (kUndecidedReasons values:
+// count_undecided, recurrence/lane_records.hpp). "" when every lane settled or the run does not
 // record reasons.
-std::string undecided_reasons(const RunPlan& whole,
-                              const std::vector<std::unique_ptr<BlockResults>>& results,
+std::string undecided_reasons(const RunPlan& whole, std::vector<std::int64_t> counts,
                               MPI_Comm comm);
 
 }  // namespace cs

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "engine/recurrence/attractor_cells.hpp"
+#include "engine/recurrence/lane_records.hpp"
 #include "engine/settlement_records.hpp"
 
 namespace cs {
@@ -28,13 +29,12 @@ void add_recurrence_candidates(const RunPlan& plan, const BlockResults& block,
                                const ContinuationAxis& axis) {
   const auto n = static_cast<std::size_t>(2 * plan.scene.dof);
   const auto lanes = static_cast<std::size_t>(block.range.end - block.range.begin);
-  const auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
   // Records compared by value (and value of the continuation axis): the same cells, one candidate.
   std::set<std::vector<double>> seen;
   for (std::size_t i = 0; i < lanes; ++i) {
     const double* point = settlement_of(plan, block, i);
     if (point == nullptr || point[n] != 0.0) continue;
-    const double* record = &cells[i * kRecord];
+    const double* record = recurrence_record_of(plan, block, i);
     const auto value =
         static_cast<double>(axis.value_of(block.range.begin + static_cast<std::int64_t>(i)));
     std::vector<double> r{value};
