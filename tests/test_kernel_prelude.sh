@@ -39,4 +39,15 @@ check "the compiler used the precompiled prelude: $(grep -m1 'kernel_prelude' tr
 check "no precompiled header was rejected" '! grep -q "^x " tree.txt'
 check "the prelude's text was not read (the .gch stands for it)" \
   '! grep -q "^\. .*/kernel_build/kernel_prelude\.hpp$" tree.txt'
+# The engine's code that does not depend on the scene is the program's, compiled once
+# (engine/engine_export.hpp): the kernel calls it there, and the program exports that and no
+# more of the engine.
+kernel=$(ls cache/kernel-*.so 2>/dev/null | head -1)
+check "the kernel calls the program's CellSet::visit, not a copy of its own ($kernel)" \
+  '[[ -n $kernel ]] && nm -D --undefined-only "$kernel" | grep -q " _ZN2cs7CellSet5visitEmb$"'
+check "the program exports CellSet::visit" \
+  'nm -D --defined-only "$bin" | grep -q " _ZN2cs7CellSet5visitEmb$"'
+extra=$(nm -D --defined-only -C "$bin" | grep " cs::" |
+        grep -v " cs::CellSet::\| cs::CellGrid<\| cs::SettlementRecords<" | head -3)
+check "the program exports nothing else of the engine (${extra:-none})" '[[ -z $extra ]]'
 exit $fail
