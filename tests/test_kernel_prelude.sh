@@ -43,11 +43,12 @@ check "the prelude's text was not read (the .gch stands for it)" \
 # (engine/engine_export.hpp): the kernel calls it there, and the program exports that and no
 # more of the engine.
 kernel=$(ls cache/kernel-*.so 2>/dev/null | head -1)
+[[ -n $kernel ]] && nm -D --undefined-only "$kernel" >kernel_needs.txt
+nm -D --defined-only "$bin" >program_exports.txt  # files, not pipes: grep -q under pipefail
 check "the kernel calls the program's CellSet::visit, not a copy of its own ($kernel)" \
-  '[[ -n $kernel ]] && nm -D --undefined-only "$kernel" | grep -q " _ZN2cs7CellSet5visitEmb$"'
-check "the program exports CellSet::visit" \
-  'nm -D --defined-only "$bin" | grep -q " _ZN2cs7CellSet5visitEmb$"'
-extra=$(nm -D --defined-only -C "$bin" | grep " cs::" |
+  'grep -q " _ZN2cs7CellSet5visitEmb$" kernel_needs.txt'
+check "the program exports CellSet::visit" 'grep -q " _ZN2cs7CellSet5visitEmb$" program_exports.txt'
+extra=$(c++filt <program_exports.txt | grep " cs::" |
         grep -v " cs::CellSet::\| cs::CellGrid<\| cs::SettlementRecords<" | head -3)
 check "the program exports nothing else of the engine (${extra:-none})" '[[ -z $extra ]]'
 exit $fail

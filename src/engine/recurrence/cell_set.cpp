@@ -1,3 +1,5 @@
+// CellSet's members compiled once, into the program; kernels of K call them here
+// (engine/engine_export.hpp).
 #include "engine/recurrence/cell_set.hpp"
 
 namespace cs {
