@@ -39,4 +39,16 @@ check "the compiler used the precompiled prelude: $(grep -m1 'kernel_prelude' tr
 check "no precompiled header was rejected" '! grep -q "^x " tree.txt'
 check "the prelude's text was not read (the .gch stands for it)" \
   '! grep -q "^\. .*/kernel_build/kernel_prelude\.hpp$" tree.txt'
+# The engine's code that does not depend on the scene is the program's, compiled once
+# (engine/engine_export.hpp): the kernel calls it there, and the program exports that and no
+# more of the engine.
+kernel=$(ls cache/kernel-*.so 2>/dev/null | head -1)
+[[ -n $kernel ]] && nm -D --undefined-only "$kernel" >kernel_needs.txt
+nm -D --defined-only "$bin" >program_exports.txt  # files, not pipes: grep -q under pipefail
+check "the kernel calls the program's CellSet::visit, not a copy of its own ($kernel)" \
+  'grep -q " _ZN2cs7CellSet5visitEmb$" kernel_needs.txt'
+check "the program exports CellSet::visit" 'grep -q " _ZN2cs7CellSet5visitEmb$" program_exports.txt'
+extra=$(c++filt <program_exports.txt | grep " cs::" |
+        grep -v " cs::CellSet::\| cs::CellGrid<\| cs::SettlementRecords<" | head -3)
+check "the program exports nothing else of the engine (${extra:-none})" '[[ -z $extra ]]'
 exit $fail

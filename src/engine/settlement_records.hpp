@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/engine_export.hpp"
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
@@ -21,7 +22,7 @@
 namespace cs {
 
 template <int N>
-class SettlementRecords {
+class CS_ENGINE_EXPORT SettlementRecords {
   using Key = std::array<std::uint64_t, N + 1>;  // the bits of point.. and period
   struct Hash {
     std::size_t operator()(const Key& key) const {
@@ -36,19 +37,7 @@ class SettlementRecords {
 
   // The provisional `basin` value of a lane settled at s: its record's number plus one, the
   // record added if these bits are new to the block.
-  double provisional_label(const Settlement<N>& s) {
-    Key key;
-    for (int k = 0; k < N; ++k) key[static_cast<std::size_t>(k)] = std::bit_cast<std::uint64_t>(s.point[static_cast<std::size_t>(k)]);
-    key[N] = std::bit_cast<std::uint64_t>(static_cast<double>(s.period));
-    if (last_ > 0.0 && key == last_key_) return last_;  // neighbours mostly share their point
-    const auto [it, added] = numbers_.try_emplace(key, static_cast<double>(numbers_.size() + 1));
-    if (added) {
-      column_.insert(column_.end(), s.point.begin(), s.point.end());
-      column_.push_back(static_cast<double>(s.period));
-    }
-    last_key_ = key;
-    return last_ = it->second;
-  }
+  double provisional_label(const Settlement<N>& s);
 
  private:
   std::vector<double>& column_;
@@ -56,6 +45,26 @@ class SettlementRecords {
   Key last_key_{};
   double last_ = 0.0;
 };
+
+// Out of line, so that a kernel calls the program's copy (engine/engine_export.hpp).
+template <int N>
+double SettlementRecords<N>::provisional_label(const Settlement<N>& s) {
+  Key key;
+  for (int k = 0; k < N; ++k) key[static_cast<std::size_t>(k)] = std::bit_cast<std::uint64_t>(s.point[static_cast<std::size_t>(k)]);
+  key[N] = std::bit_cast<std::uint64_t>(static_cast<double>(s.period));
+  if (last_ > 0.0 && key == last_key_) return last_;  // neighbours mostly share their point
+  const auto [it, added] = numbers_.try_emplace(key, static_cast<double>(numbers_.size() + 1));
+  if (added) {
+    column_.insert(column_.end(), s.point.begin(), s.point.end());
+    column_.push_back(static_cast<double>(s.period));
+  }
+  last_key_ = key;
+  return last_ = it->second;
+}
+
+extern template class SettlementRecords<2>;
+extern template class SettlementRecords<4>;
+extern template class SettlementRecords<6>;
 
 // A settled lane's (point.., period) from its provisional `basin` value, nullptr if it did not
 // settle; `lane` counts from the block's first point. Valid until the block is labelled.

@@ -81,6 +81,20 @@ fs::path code_file() {
   return fs::read_symlink("/proc/self/exe", error);
 }
 
+// A kernel calls the engine's code that does not depend on the scene where it was compiled, in
+// the file holding this code (engine/engine_export.hpp). The program's exports are seen by every
+// library it loads; the Python module, which python3 loaded with RTLD_LOCAL, is made global
+// first (RTLD_NOLOAD: the module already loaded, nothing else), or the kernel's load would fail
+// with an undefined symbol.
+void export_engine_to_kernels() {
+  static const bool once = [] {
+    const fs::path code = code_file();
+    if (!code.empty()) ::dlopen(code.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_GLOBAL);
+    return true;
+  }();
+  (void)once;
+}
+
 // The headers a kernel includes: the snapshot installed beside the program (PREFIX/bin/
 // contactsweep -> PREFIX/share/contactsweep/include) or the module (4 levels below PREFIX),
 // else the build tree's.
@@ -354,6 +368,7 @@ LoadedKernel load_kernel(const std::string& source) {
   // Loaded through the descriptor that was checked: what is mapped is what was read.
   const std::string by_descriptor = fmt::format("/proc/self/fd/{}", library.fd);
   const bool proc = ::access(by_descriptor.c_str(), R_OK) == 0;
+  export_engine_to_kernels();
   void* handle = ::dlopen(proc ? by_descriptor.c_str() : path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr)
     throw std::runtime_error(fmt::format("cannot load the kernel '{}': {}", path, ::dlerror()));

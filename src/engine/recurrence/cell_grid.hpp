@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/engine_export.hpp"
+
 namespace cs {
 
 // The number of cells along a variable: [lower, upper) cut into cells of `cell_size` (the last
@@ -22,7 +24,7 @@ inline double cells_along(double lower, double upper, double cell_size, double p
 }
 
 template <int N>
-class CellGrid {
+class CS_ENGINE_EXPORT CellGrid {
  public:
   static constexpr std::uint64_t kOutside = ~std::uint64_t{0};
   static constexpr double kMaxKeys = 9007199254740992.0;  // 2^53
@@ -34,34 +36,7 @@ class CellGrid {
   // std::invalid_argument for a size that is not positive and finite, an empty box, or more
   // than 2^53 cells.
   CellGrid(const std::array<double, N>& lower, const std::array<double, N>& upper,
-           const std::array<double, N>& cell_size, const std::array<double, N>& angle_period) {
-    double keys = 1.0;
-    for (int k = 0; k < N; ++k) {
-      if (!(cell_size[k] > 0.0) || !std::isfinite(cell_size[k]))
-        throw std::invalid_argument("cell size of variable " + std::to_string(k) +
-                                    " must be positive and finite");
-      period_[k] = angle_period[k] > 0.0 ? angle_period[k] : 0.0;
-      const double cells = cells_along(lower[k], upper[k], cell_size[k], period_[k]);
-      if (period_[k] > 0.0) {
-        lower_[k] = 0.0;
-        size_[k] = period_[k] / cells;
-      } else {
-        if (!(upper[k] > lower[k]) || !std::isfinite(upper[k] - lower[k]))
-          throw std::invalid_argument("empty box for variable " + std::to_string(k));
-        lower_[k] = lower[k];
-        size_[k] = cell_size[k];
-      }
-      keys *= cells;
-      if (!(keys <= kMaxKeys))
-        throw std::invalid_argument("more than 2^53 cells: make the cells larger");
-      cells_[k] = static_cast<std::int64_t>(cells);
-    }
-    std::uint64_t stride = 1;
-    for (int k = 0; k < N; ++k) {
-      stride_[k] = stride;
-      stride *= static_cast<std::uint64_t>(cells_[k]);
-    }
-  }
+           const std::array<double, N>& cell_size, const std::array<double, N>& angle_period);
 
   // The cell of x, or kOutside (outside the box in a variable that is not an angle, or not
   // finite).
@@ -117,5 +92,42 @@ class CellGrid {
   std::array<std::int64_t, N> cells_{};
   std::array<std::uint64_t, N> stride_{};
 };
+
+// Out of line, so that a kernel calls the program's copy (engine/engine_export.hpp).
+template <int N>
+CellGrid<N>::CellGrid(const std::array<double, N>& lower, const std::array<double, N>& upper,
+                      const std::array<double, N>& cell_size,
+                      const std::array<double, N>& angle_period) {
+  double keys = 1.0;
+  for (int k = 0; k < N; ++k) {
+    if (!(cell_size[k] > 0.0) || !std::isfinite(cell_size[k]))
+      throw std::invalid_argument("cell size of variable " + std::to_string(k) +
+                                  " must be positive and finite");
+    period_[k] = angle_period[k] > 0.0 ? angle_period[k] : 0.0;
+    const double cells = cells_along(lower[k], upper[k], cell_size[k], period_[k]);
+    if (period_[k] > 0.0) {
+      lower_[k] = 0.0;
+      size_[k] = period_[k] / cells;
+    } else {
+      if (!(upper[k] > lower[k]) || !std::isfinite(upper[k] - lower[k]))
+        throw std::invalid_argument("empty box for variable " + std::to_string(k));
+      lower_[k] = lower[k];
+      size_[k] = cell_size[k];
+    }
+    keys *= cells;
+    if (!(keys <= kMaxKeys))
+      throw std::invalid_argument("more than 2^53 cells: make the cells larger");
+    cells_[k] = static_cast<std::int64_t>(cells);
+  }
+  std::uint64_t stride = 1;
+  for (int k = 0; k < N; ++k) {
+    stride_[k] = stride;
+    stride *= static_cast<std::uint64_t>(cells_[k]);
+  }
+}
+
+extern template class CellGrid<2>;
+extern template class CellGrid<4>;
+extern template class CellGrid<6>;
 
 }  // namespace cs

@@ -3,12 +3,16 @@
 // bounded: it holds at most `max_cells` keys, and refuses the next one. Each key carries one
 // flag, "located" (a cell of the attractor, seen after the recurrences), in its top bit. The
 // table is kept when the set is cleared, so a slot reused by lane after lane stops allocating.
+// Its members that are not inline are compiled once, into the program (cell_set.cpp), and a
+// kernel of K calls them there (docs/performance.md, "First build of a new K").
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "engine/engine_export.hpp"
 
 namespace cs {
 
@@ -22,7 +26,7 @@ inline std::uint64_t cell_hash(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-class CellSet {
+class CS_ENGINE_EXPORT CellSet {
  public:
   enum class Visit : std::uint8_t { seen, added, full };
 
@@ -39,21 +43,7 @@ class CellSet {
   }
 
   // Adds `key` unless it is there (seen) or the set is full; with `locate`, flags it located.
-  Visit visit(std::uint64_t key, bool locate) {
-    if (!slots_.empty()) {
-      std::uint64_t& slot = find(key);
-      if (slot != kEmpty) {
-        if (locate && !(slot & kLocated)) slot |= kLocated, ++located_;
-        return Visit::seen;
-      }
-    }
-    if (size_ >= max_cells_) return Visit::full;
-    if (2 * (size_ + 1) > slots_.size()) grow();
-    find(key) = key | (locate ? kLocated : 0);
-    ++size_;
-    located_ += locate;
-    return Visit::added;
-  }
+  Visit visit(std::uint64_t key, bool locate);
 
   bool contains(std::uint64_t key) const {
     if (slots_.empty()) return false;
@@ -61,37 +51,15 @@ class CellSet {
   }
 
   // The located keys, in increasing order.
-  std::vector<std::uint64_t> located_keys() const {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(located_);
-    for (std::uint64_t slot : slots_)
-      if (slot != kEmpty && (slot & kLocated)) keys.push_back(slot & ~kLocated);
-    std::sort(keys.begin(), keys.end());
-    return keys;
-  }
+  std::vector<std::uint64_t> located_keys() const;
 
   // The smallest located key (kEmpty if none): a located set's canonical name.
-  std::uint64_t smallest_located() const {
-    std::uint64_t best = kEmpty;
-    for (std::uint64_t slot : slots_)
-      if (slot != kEmpty && (slot & kLocated)) best = std::min(best, slot & ~kLocated);
-    return best;
-  }
+  std::uint64_t smallest_located() const;
 
   // At most k located keys, those of smallest cell_hash, in increasing order of key: a bottom-k
   // sketch. Two lanes that located the same cells have the same sketch; two that located large
   // parts of one chaotic attractor share keys with a probability that grows with the overlap.
-  std::vector<std::uint64_t> sketch(std::size_t k) const {
-    std::vector<std::uint64_t> keys = located_keys();
-    if (keys.size() > k) {
-      std::nth_element(
-          keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(k), keys.end(),
-          [](std::uint64_t a, std::uint64_t b) { return cell_hash(a) < cell_hash(b); });
-      keys.resize(k);
-      std::sort(keys.begin(), keys.end());
-    }
-    return keys;
-  }
+  std::vector<std::uint64_t> sketch(std::size_t k) const;
 
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 
@@ -105,12 +73,7 @@ class CellSet {
       if (slots_[i] == kEmpty || (slots_[i] & ~kLocated) == key) return slots_[i];
   }
 
-  void grow() {
-    std::vector<std::uint64_t> old(std::max<std::size_t>(16, 2 * slots_.size()), kEmpty);
-    old.swap(slots_);
-    for (std::uint64_t slot : old)
-      if (slot != kEmpty) find(slot & ~kLocated) = slot;
-  }
+  void grow();
 
   std::vector<std::uint64_t> slots_;
   std::size_t size_ = 0, located_ = 0, max_cells_;
