@@ -30,7 +30,8 @@ method"), end to end through the CLI:
   and within 20 rtol / (t_e - t_a) of the exact flow's; the same bits without the trajectory. A
   weakly forced (regular) Duffing (the Duffing's kernels): dop853 at rtol and rtol/100 agrees
   with rk4 within the two methods' error estimates by convergence. The basin map with a window and a stop: the same
-  bits on 1x1, 2x1, 1x2 ranks x threads, NaN exactly where a lane stopped before the window.
+  bits on 1x1, 2x1, 1x2 ranks x threads and, lyapunov aside, as without lyapunov; NaN exactly
+  where a lane stopped before the window.
   (The Duffing and map specs carry an observe formula for that, unused by the checks above.)
 """
 import math
@@ -346,6 +347,14 @@ for ranks, threads in ((1, 1), (2, 1), (1, 2)):
         outputs.append(out)
 runs.same_bits("forced Duffing map with observe_window, stop and lyapunov: 1x1, 2x1, 1x2 give "
                "the same bits", *outputs, count=3)
+# Without lyapunov (map_without's kernel): the marks take no step, every other dataset the same.
+window_plain, _ = runs.launch(WINDOW_MAP.replace("lyapunov = {}\n", ""), "window_map_without")
+if outputs and window_plain:
+    names = ("final_q", "final_p", "final_E", "mean_E", "min_E", "max_E", "basin", "stop_time",
+             "attractor_q", "attractor_p")
+    check("window map: final state, window statistics, basin, stops the same bits with and "
+          "without lyapunov", all(np.array_equal(x, y, equal_nan=True) for x, y in
+                                  zip(read(outputs[0], *names), read(window_plain, *names))))
 if outputs:
     lyap, stop_time = read(outputs[0], "lyapunov", "stop_time")
     stopped = np.isfinite(stop_time)
