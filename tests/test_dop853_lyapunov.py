@@ -24,8 +24,15 @@ method"), end to end through the CLI:
   lanes stopping early, a stop condition) with lyapunov; every other dataset the same bits as without it.
 * The stop: scene A's lane from (1, 1) stops where q < 0; its tangent at the stop, read on the
   step's continuous extension, is the interpolated state: lyapunov = (1/t_s) ln(|y(t_s)|/sqrt 2).
-* Refused (exit 2, the pair named at integrator.method, nothing written): lyapunov with
-  observe_window.
+* observe_window: ln|v| at the window's ends read on the steps' extension on duals. Scene A
+  (its runs share the stop's kernel): underdamped with a stop inside the window, overdamped with
+  the window ending at t_end: the windowed exponent is the state's own growth between the ends
+  and within 20 rtol / (t_e - t_a) of the exact flow's; the same bits without the trajectory. A
+  weakly forced (regular) Duffing (the Duffing's kernels): dop853 at rtol and rtol/100 agrees
+  with rk4 within the two methods' error estimates by convergence. The basin map with a window and a stop: the same
+  bits on 1x1, 2x1, 1x2 ranks x threads and, lyapunov aside, as without lyapunov; NaN exactly
+  where a lane stopped before the window.
+  (The Duffing and map specs carry an observe formula for that, unused by the checks above.)
 """
 import math
 import os
@@ -145,6 +152,7 @@ q_0 = {{ from = -0.9, to = 0.9, n = 3 }}
 p_0 = {{ from = -0.5, to = 0.5, n = 3 }}
 [measures]
 final_state = {{ vars = ["q", "p"] }}
+observe = {{ E = "p^2/2 - q^2/2 + q^4/4" }}
 lyapunov = {{}}
 """
 T_DUFFING = 2000.0
@@ -187,6 +195,7 @@ q_0 = { from = -2.0, to = 2.0, n = 24 }
 p_0 = { from = -2.0, to = 2.0, n = 20 }
 [measures]
 final_state = { vars = ["q", "p"] }
+observe = { E = "p^2/2 - q^2/2 + q^4/4" }
 basin = { period = 5.0 }
 stop = { when = "q > 1.5" }
 """
@@ -224,8 +233,9 @@ if outputs and plain:
 # state, so lyapunov over [0, stop_time] is (1/t_s) ln(|y(t_s)| / sqrt 2), y(t_s) the final state
 # (the state interpolated at the stop), to rounding; and t_s is the closed form's first zero of
 # q within 10 rtol.
-STOP_A = OSCILLATOR.format(omega=1.0, gamma=0.1, rtol=1e-9, atol=1e-15, t_end=10.0) + \
-    'stop = { when = "q < 0" }\n'
+# (observe, here unused: the kernel of the window's runs below, which have the same formulas.)
+OBSERVE_STOP_A = 'observe = { E = "p^2/2 + q^2/2" }\nstop = { when = "q < 0" }\n'
+STOP_A = OSCILLATOR.format(omega=1.0, gamma=0.1, rtol=1e-9, atol=1e-15, t_end=10.0) + OBSERVE_STOP_A
 f = runs.run(STOP_A, "oscillator_stop")
 if f:
     lyap, q, p, t_s = (f[n][...].ravel()[0] for n in ("lyapunov", "final_q", "final_p",
@@ -238,16 +248,120 @@ if f:
           abs(lyap - own) <= 1e-12 and abs(t_s - t_zero) <= 10 * 1e-9,
           f"{lyap!r} vs {own!r}; t_s {t_s!r} vs {t_zero!r}")
 
-# ---- refused -----------------------------------------------------------------------------------
-BASE = OSCILLATOR.format(omega=1.0, gamma=0.1, rtol=1e-8, atol=1e-8, t_end=10.0)
-for label, extra, key in [
-    ("observe_window", 'observe = { E = "p^2/2 + q^2/2" }\nobserve_window = { from = 1.0, to = 5.0 }',
-     "measures.lyapunov with measures.observe_window"),
-]:
-    out, result = runs.launch(BASE + extra + "\n", f"refused_{label}", expect=2)
-    check(f"lyapunov with {label} under dop853: exit 2 naming the pair (at integrator.method's "
-          f"line), nothing written", out is not None and key in result.stderr
-          and 'method "dop853"' in result.stderr and not os.path.exists(out),
-          result.stderr.strip())
+# ---- observe_window: ln|v| at the window's ends from the steps' extension on duals ------------
+# Scene A from (1, 1), window [t_a, t_b] (the runs' observe and stop as the stop's run above: one
+# kernel): the tangent (1, 1) is the state through the same stages and the same extension, so
+# the windowed exponent is the state's own growth ln(|y(t_e)| / |y(t_a)|) / (t_e - t_a), y(t_a)
+# the trajectory's sample there (read on the same extension), y(t_e) the final state, t_e = t_b
+# or the stop, to rounding. Each end's ln|y| is off the exact flow's by at most its relative
+# error eps (checked <= 10 rtol), so the exponent is within (eps_a + eps_e) / (t_e - t_a) <=
+# 20 rtol / (t_e - t_a) of the exact flow's value over [t_a, t_e]. Underdamped, the stop (q < 0,
+# t_s = 2.38) ends the interval inside the window [0.5, 10]; overdamped from (1, 1) q stays
+# positive, and the window [5, 20] ends at t_end: the last step's end. Without the trajectory
+# (the window's samples every nominal step) the marks are the same: the same bits.
+RTOL_W, H_W, EVERY_W = 1e-9, 0.1, 5
+for label, omega, gamma, t_a, t_b, stops in [("underdamped", 1.0, 0.1, 0.5, 10.0, True),
+                                             ("overdamped", 1.0, 3.0, 5.0, 20.0, False)]:
+    a = generator(omega, gamma)
+    y_a = expm(a * t_a) @ v0
+    atol = 1e-6 * RTOL_W * np.linalg.norm(expm(a * t_b) @ v0)
+    base = OSCILLATOR.format(omega=omega, gamma=gamma, rtol=RTOL_W, atol=atol, t_end=t_b) + \
+        OBSERVE_STOP_A + f"observe_window = {{ from = {t_a!r}, to = {t_b!r} }}\n"
+    f = runs.run(base + f"trajectory = {{ every = {EVERY_W} }}\n", f"window_{label}")
+    g = runs.run(base, f"window_{label}_every_step")
+    if not (f and g):
+        continue
+    lyap, q, p, t_s = (f[n][...].ravel()[0] for n in ("lyapunov", "final_q", "final_p",
+                                                       "stop_time"))
+    check(f"window, {label}: the lane {'stops inside the window' if stops else 'never stops'}",
+          (t_a < t_s < t_b) if stops else math.isnan(t_s), f"stop_time {t_s!r}")
+    t_e = t_s if stops else t_b
+    k_a = round(t_a / (EVERY_W * H_W))
+    s_a, s_e = np.array([f["traj_q"][...].ravel()[k_a], f["traj_p"][...].ravel()[k_a]]), np.array([q, p])
+    own = math.log(np.linalg.norm(s_e) / np.linalg.norm(s_a)) / (t_e - t_a)
+    check(f"window, {label}: lyapunov is the state's own growth over [{t_a}, {t_e:.6g}]",
+          abs(lyap - own) <= 1e-12, f"{lyap!r} vs {own!r}: {abs(lyap - own):.3g}")
+    y_e = expm(a * t_e) @ v0
+    eps_a = np.linalg.norm(s_a - y_a) / np.linalg.norm(y_a)
+    eps_e = np.linalg.norm(s_e - y_e) / np.linalg.norm(y_e)
+    check(f"window, {label}: the states' relative errors at the ends <= 10 rtol",
+          max(eps_a, eps_e) <= 10 * RTOL_W, f"{eps_a:.3g}, {eps_e:.3g}")
+    flow = math.log(np.linalg.norm(y_e) / np.linalg.norm(y_a)) / (t_e - t_a)
+    gap, tolerance = abs(lyap - flow), 20 * RTOL_W / (t_e - t_a)
+    check(f"window, {label}: |lyapunov - exact flow's value over [t_a, t_e]| <= 20 rtol / (t_e - t_a)",
+          gap <= tolerance, f"{lyap!r} vs {flow!r}: {gap:.3g} (tolerance {tolerance:.3g}, "
+          f"{gap * (t_e - t_a) / RTOL_W:.3g} rtol/(t_e - t_a))")
+    whole = math.log(np.linalg.norm(y_e) / np.linalg.norm(v0)) / t_e
+    check(f"window, {label}: not the value over [0, t_e] (by far more than the tolerance)",
+          abs(lyap - whole) > 100 * tolerance, f"{lyap!r} vs {whole!r}")
+    check(f"window, {label}: the same bits without a trajectory (every nominal step a sample)",
+          np.array_equal(g["lyapunov"][...], f["lyapunov"][...]),
+          f"{g['lyapunov'][...].ravel()[0]!r} vs {lyap!r}")
+
+# ---- observe_window on a regular forced Duffing: dop853 against rk4 ----------------------------
+# The Duffing above (the same kernels) forced weakly, F = 0.1, delta = 0.25: its 9 lanes settle
+# on stable cycles. Window [30, 150] (whole steps of both h: the same t_a), ending at t_end. On a
+# nonlinear field the tangent's error is not the state's: its local error (uncontrolled, the
+# derivative of the state's) adds up over the window's steps, ~ rtol each, so it is estimated by
+# convergence, as rk4's. rk4 (order 4) at h and h/2: |l_{h/2} - l| ~ |l_h - l_{h/2}| / 15;
+# dop853 (error ~ rtol) at rtol and rtol / 100: |l_rtol - l| ~ |l_rtol - l_{rtol/100}|; each
+# taken twice. Measured: dop853's error at rtol 1e-9 is ~90 rtol / (t_b - t_a).
+RTOL_R, T_A_R, T_R = 1e-9, 30.0, 150.0
+REGULAR = DUFFING.replace("delta = 0.3", "delta = 0.25").replace("F = 0.5", "F = 0.1") + \
+    f"observe_window = {{{{ from = {T_A_R!r}, to = {T_R!r} }}}}\n"
+regular = {}
+for name, integrator in [("dop853", f'method = "dop853"\nrtol = {RTOL_R!r}\nh = 0.1'),
+                         ("dop853_fine", f'method = "dop853"\nrtol = {RTOL_R / 100!r}\nh = 0.1'),
+                         ("rk4", 'method = "rk4"\nh = 0.01'),
+                         ("rk4_fine", 'method = "rk4"\nh = 0.005')]:
+    f = runs.run(REGULAR.format(integrator=integrator, t=T_R), f"window_regular_{name}")
+    if f:
+        regular[name] = f["lyapunov"][...].ravel()
+if len(regular) == 4:
+    d, d_fine, r, r_fine = (regular[n] for n in ("dop853", "dop853_fine", "rk4", "rk4_fine"))
+    err_d, err_r = 2 * np.abs(d - d_fine), 2 * np.abs(r - r_fine) / 15
+    check("regular Duffing: every lane's windowed exponent negative (stable cycles)",
+          np.all(d < 0), f"{d.size} lanes, {d.min():.5f} .. {d.max():.5f}")
+    for label, x, tolerance in [(f"rtol {RTOL_R:g}", d, err_d + err_r),
+                                (f"rtol {RTOL_R / 100:g}", d_fine, err_d / 100 + err_r)]:
+        gap = np.abs(x - r_fine)
+        check(f"regular Duffing: dop853's windowed exponent at {label} within the two error "
+              f"estimates of rk4's at h = 0.005", np.all(gap <= tolerance),
+              f"max gap {gap.max():.3g}, max gap / tolerance {(gap / tolerance).max():.3g}; "
+              f"dop853 rtol -> rtol/100 up to {np.abs(d - d_fine).max():.3g} "
+              f"({np.abs(d - d_fine).max() * (T_R - T_A_R) / RTOL_R:.3g} rtol/(t_b - t_a)), "
+              f"rk4 h -> h/2 up to {np.abs(r - r_fine).max():.3g}")
+
+# ---- observe_window with a stop on the stroboscopic map: ranks and threads ---------------------
+# The forced Duffing basin map above (its kernel: the same formulas), every lane to t_end, a
+# window [2.5, 150] ending at t_end (its lanes stop before t = 4, some inside it): the same bits
+# on 1x1, 2x1, 1x2 ranks x threads; NaN exactly where a lane stopped at the window's start or
+# before, finite elsewhere.
+WINDOW_MAP = MAP.replace("basin = { period = 5.0 }", "basin = { period = 5.0, early_stop = false }") + \
+    "observe_window = { from = 2.5, to = 150.0 }\nlyapunov = {}\n"
+outputs = []
+for ranks, threads in ((1, 1), (2, 1), (1, 2)):
+    out, _ = runs.launch(WINDOW_MAP, f"window_map_np{ranks}_t{threads}", ranks=ranks,
+                         threads=threads)
+    if out:
+        outputs.append(out)
+runs.same_bits("forced Duffing map with observe_window, stop and lyapunov: 1x1, 2x1, 1x2 give "
+               "the same bits", *outputs, count=3)
+# Without lyapunov (map_without's kernel): the marks take no step, every other dataset the same.
+window_plain, _ = runs.launch(WINDOW_MAP.replace("lyapunov = {}\n", ""), "window_map_without")
+if outputs and window_plain:
+    names = ("final_q", "final_p", "final_E", "mean_E", "min_E", "max_E", "basin", "stop_time",
+             "attractor_q", "attractor_p")
+    check("window map: final state, window statistics, basin, stops the same bits with and "
+          "without lyapunov", all(np.array_equal(x, y, equal_nan=True) for x, y in
+                                  zip(read(outputs[0], *names), read(window_plain, *names))))
+if outputs:
+    lyap, stop_time = read(outputs[0], "lyapunov", "stop_time")
+    stopped = np.isfinite(stop_time)
+    before = stopped & (stop_time <= 2.5)
+    check("window map: NaN exactly where the lane stopped at the window's start or before",
+          before.any() and (stopped & ~before).any() and np.array_equal(np.isnan(lyap), before),
+          f"{before.sum()} stopped before, {(stopped & ~before).sum()} inside the window, "
+          f"{(~stopped).sum()} never")
 
 runs.finish()

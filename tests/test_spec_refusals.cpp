@@ -102,8 +102,6 @@ const std::vector<BadSpec> kBadSpecs = {
      "the fixed h"},
     {"atol_for_default_method", kDw + "[integrator]\natol = 1e-8\n", {},
      "integrator.atol is a tolerance of an adaptive method"},
-    {"dop853_lyapunov_window", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[measures]\nlyapunov = true\nobserve = { E = \"q\" }\nobserve_window = { from = 1.0, to = 5.0 }\n", {},
-     "method \"dop853\" does not support measures.lyapunov with measures.observe_window yet"},
     {"dop853_step_axis", kDw + "[integrator]\nmethod = \"dop853\"\nrtol = 1e-8\n[grid]\nh = { values = [0.01] }\n", {},
      "does not support a grid over h yet"},
     // Wrong types.

@@ -69,7 +69,7 @@ class BlockRunner {
       const typename Method::Control control{plan.spec.rtol, plan.spec.atol, plan.spec.t_end,
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
-      main_.ad.sampling = fin_.ad.sampling = dense_samples_.any();
+      main_.ad.sampling = fin_.ad.sampling = dense_samples_.any() || lyapunov_.marks_in_steps();
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -162,11 +162,11 @@ class BlockRunner {
     }
     main_.set_lane(i, x);
     main_.set_parameters(i, c, coef);
+    lyapunov_.seed(i, x, c);
     if constexpr (kAdaptive) {
       main_.ad.clear(i, clock_.t_start, plan_.spec.h);
-      main_.ad.next_sample[i] = dense_samples_.next(b);
+      main_.ad.next_sample[i] = std::min(dense_samples_.next(b), lyapunov_.next_mark(i));
     }
-    lyapunov_.seed(i, x, c);
     main_book_[i] = b;
     first_chunk_[i] = chunks_;
     countdown_[i] = chunks_until_due(0);
@@ -183,7 +183,7 @@ class BlockRunner {
     std::int64_t base[W];  // the lanes' step counts
     if constexpr (kFormulas || carry.tangent)
       for (int i = 0; i < W; ++i) base[i] = which == 0 ? steps_done(i) : fin_book_[i].n;
-    if constexpr (carry.tangent && kAdaptive) {  // no window (spec_integrator.cpp)
+    if constexpr (carry.tangent && kAdaptive) {
       auto on_dense = [&](int i, const auto& dense) { dense_step(t, i, dense); };
       if constexpr (Formulas::stop) {
         lyapunov_.template advance_adaptive_tile<Uniform>(

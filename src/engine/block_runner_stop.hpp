@@ -10,7 +10,8 @@
 
 namespace cs {
 
-// Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp).
+// Lane i of tile t took a step that reached its next sample time (engine/dense_samples.hpp)
+// or a window's end of its tangent (LyapunovLanes::in_step).
 // A lane its stroboscopic map settled is looked at after this chunk (the early stop).
 // A lane whose stop's condition holds at the step's end stops where it first held: its
 // samples up to there, then it is held (no more attempts: its time set to t_end) until the
@@ -34,9 +35,10 @@ void BlockRunner<S, Method, carry, Uniform, Formulas>::dense_step(Tile& t, int i
       if constexpr (carry.tangent) lyapunov_.at_stop(&t == &main_, i, end.t);
     }
   }
+  lyapunov_.in_step(&t == &main_, i, end.t);  // ln‖v‖ at the window's ends in the step
   dense_samples_.in_step(b, end, end.t, c, dense, sample_at(slot(t, i)), sync_at(),
                          strobe_at(slot(t, i)), window_at(slot(t, i)));
-  t.ad.next_sample[i] = dense_samples_.next(b);
+  t.ad.next_sample[i] = std::min(dense_samples_.next(b), lyapunov_.next_mark(slot(t, i)));
   if (b.basin.settled && !settled && &t == &main_) countdown_[i] = 0;
   if (stopped) {
     formulas_.hold_stop(slot(t, i), end);

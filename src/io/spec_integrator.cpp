@@ -75,20 +75,15 @@ void SpecReader::read_tolerances(const toml::table& t) {
 // What an adaptive method does not do yet, refused by name. Its lanes step to times of their
 // own; the samples of a trajectory, its observables, sync, the stroboscopic map, an
 // observe_window's every nominal step and the stop's time between two steps come from the
-// step's dense output (numerics/dop853_dense.hpp).
+// step's dense output (numerics/dop853_dense.hpp), as does lyapunov's tangent at a stop and at
+// an observe_window's ends (on duals: engine/measures/lyapunov_lanes.hpp).
 void SpecReader::check_adaptive_measures() const {
   if (!find_method(spec_.method)->adaptive) return;
-  const Measures& m = spec_.measures;
   auto refuse = [&](std::string_view what, std::string_view why) {
     fail(section("integrator").get("method"),
          fmt::format("method {} does not support {} yet: {}", toml_string(spec_.method), what,
                      why));
   };
-  // lyapunov's tangent is integrated with an adaptive lane's steps (AdaptiveTangent) and read
-  // at a stop on the step's extension, but not yet at the window's ends between two steps.
-  if (m.lyapunov && m.observe && m.observe->window)
-    refuse("measures.lyapunov with measures.observe_window",
-           "the tangent at the window's ends between two steps is not interpolated");
   for (const GridAxis& axis : spec_.axes)
     if (axis.is_step_size)
       refuse("a grid over h", "h is only its first step; vary integrator.rtol in runs of their own");

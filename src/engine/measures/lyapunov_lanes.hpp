@@ -8,6 +8,10 @@
 // tangent still starts at t_start, so it has aligned with the most expanding direction by n_a,
 // and ln‖v‖ is read at n_a and at the end. A lane that stops after a chunk's start is stepped
 // again from a snapshot of its tangent with the state (rerun_*), as FormulaTracker does.
+// An adaptive lane (dop853) steps to times of its own: its window's ends t_a = t_start + n_a·h
+// and t_b = min(t_start + n_b·h, t_end) fall inside its steps, and ln‖v‖ there is read on the
+// step's continuous extension on duals (in_step, from the runner's dense_step, as the stop's
+// tangent: at_stop), or from the step's end where the end is the mark's time.
 #pragma once
 
 #include <algorithm>
@@ -32,6 +36,9 @@ class LyapunovLanes {
   void clear(bool, int) {}
   void move(int, int) {}
   void finish(int, LaneBook<S::dof>&, LaneStatus, double) {}
+  double next_mark(int) const { return INFINITY; }
+  bool marks_in_steps() const { return false; }
+  void in_step(bool, int, double) {}
 };
 
 template <Scene S, class Method, Carry carry, int W>
@@ -54,7 +61,10 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
         out_(out),
         window_(plan.observe.window),
         n_a_(window_ ? plan.observe.window_first : 0),
-        n_b_(window_ ? plan.observe.window_last : plan.spec.steps) {}
+        n_b_(window_ ? plan.observe.window_last : plan.spec.steps),
+        t_a_(plan.spec.t_start + static_cast<double>(n_a_) * plan.spec.h),
+        t_b_(std::min(plan.spec.t_start + static_cast<double>(n_b_) * plan.spec.h,
+                      plan.spec.t_end)) {}
 
   // Main slot i now holds a fresh lane at x (its force cache set by Method::start).
   void seed(int i, const LaneState<D>& x, const Params& c) {
@@ -102,23 +112,53 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
 
   // An adaptive method's tile t (main or finisher) makes `steps` attempts, its tangents with it
   // (AdaptiveTangent); on_dense and watch (the stop's, or nullptr) as advance_adaptive takes
-  // them. With the stop, a step that holds it has the tangent's continuous extension, read by
-  // at_stop from on_dense. No observe_window here (spec_integrator.cpp refuses it with
-  // lyapunov: its window's ends would need the same).
+  // them. With the stop or the window, a step that holds the stop or a window's end has the
+  // tangent's continuous extension, read by at_stop and in_step from on_dense.
   template <bool Uniform, class OnDense, class Watch>
   void advance_adaptive_tile(Tile& t, bool main, int steps, const Params& uniform,
                              OnDense&& on_dense, Watch&& watch) {
     AdaptiveTangent<S, W, carry.z || S::z_feeds_back, carry.mu && !S::kz_constant> tangent{
         main ? main_ : fin_};
-    tangent.want_dense = !std::is_null_pointer_v<std::remove_cvref_t<Watch>>;
-    stop_dense_ = [&tangent](double t_stop, double* v) {
-      const auto y = tangent.dense.at_time(t_stop);
+    tangent.want_dense = !std::is_null_pointer_v<std::remove_cvref_t<Watch>> || window_;
+    dense_tangent_ = [&tangent](double te, double* v) {
+      const auto y = tangent.dense.at_time(te);
       for (int d = 0; d < D; ++d) v[d] = y.q[d].d, v[D + d] = y.p[d].d;
       if constexpr (with_z) v[2 * D] = y.z.d;
     };
     advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, watch,
                                                 tangent);
-    stop_dense_ = nullptr;
+    dense_tangent_ = nullptr;
+  }
+
+  // An adaptive lane with observe_window: whether its steps must stop by the window's ends
+  // (the runner then builds dense output), and the next end lane `slot` has not marked yet
+  // (+∞ when none).
+  bool marks_in_steps() const { return window_ && adaptive_method<Method>(); }
+  double next_mark(int slot) const {
+    if (!marks_in_steps()) return INFINITY;
+    if (!mark_a_[slot].set) return t_a_;
+    return mark_b_[slot].set ? INFINITY : t_b_;
+  }
+
+  // From on_dense of advance_adaptive_tile (after at_stop, if the lane stopped): lane i of the
+  // main tile or the finisher took a step (or stopped) reaching t_lane; ln‖v‖ at the window's
+  // ends up to t_lane, read on the step's extension, or from the tangent itself at t_lane (the
+  // step's end, or the stop's tangent). The fold runs after on_dense, so the extension's
+  // tangent has the scale of folds[i].
+  void in_step(bool main, int i, double t_lane) {
+    const TangentTile<S, W>& g = main ? main_ : fin_;
+    const int slot = main ? i : W + i;
+    for (double te = next_mark(slot); te <= t_lane; te = next_mark(slot)) {
+      double v[2 * D + 1] = {};
+      if (te == t_lane) {
+        for (int k = 0; k < 2 * D + 1; ++k) v[k] = g.v[k][i];
+      } else {
+        dense_tangent_(te, v);
+      }
+      const Mark m{g.folds[i], log_norm(v), true};
+      if (!mark_a_[slot].set && te == t_a_) mark_a_[slot] = m;
+      if (!mark_b_[slot].set && te == t_b_) mark_b_[slot] = m;
+    }
   }
 
   // From on_dense of advance_adaptive_tile: lane i of the main tile or the finisher stops at
@@ -127,7 +167,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   void at_stop(bool main, int i, double t_stop) {
     TangentTile<S, W>& g = main ? main_ : fin_;
     double v[2 * D + 1] = {};
-    stop_dense_(t_stop, v);
+    dense_tangent_(t_stop, v);
     for (int k = 0; k < 2 * D + 1; ++k) g.v[k][i] = v[k];
   }
 
@@ -154,12 +194,24 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   // Slot `lane_slot` (main 0 … W−1, finisher W …) finishes after b.n steps, at time t_lane.
   // NaN where the lane failed or its interval is empty; a healthy lane whose exponent is not
   // finite is flagged through its book (LaneWriter then writes non_finite_output). An adaptive
-  // lane's interval is [t_start, t_lane], its own time; a fixed-step lane's n·h.
+  // lane's interval is [t_start, t_lane], its own time, or with the window [t_a, the earlier
+  // of t_b and t_lane]; a fixed-step lane's n·h.
   void finish(int lane_slot, LaneBook<D>& b, LaneStatus status, double t_lane) {
     double value = std::numeric_limits<double>::quiet_NaN();
+    bool nonempty = true;  // the interval holds more than its start
     if (status == LaneStatus::ok && b.n > 0) {
       const LaneTangent<D> w = lane_slot < W ? main_.lane(lane_slot) : fin_.lane(lane_slot - W);
-      if (adaptive_method<Method>()) {
+      if (marks_in_steps()) {
+        // A lane that ended (t_end, its stop, its basin settled) before t_b, or whose last step
+        // to t_end did not build an extension: its end is its last tangent, at t_lane.
+        const Mark& a = mark_a_[lane_slot];
+        const bool at_b = mark_b_[lane_slot].set;
+        const Mark e = at_b ? mark_b_[lane_slot] : Mark{w.folds, log_norm(w.v), true};
+        const double t_e = at_b ? t_b_ : t_lane;
+        nonempty = a.set && t_e > t_a_;
+        if (nonempty)
+          value = ((e.folds - a.folds) * kFoldLog + (e.log_norm - a.log_norm)) / (t_e - t_a_);
+      } else if (adaptive_method<Method>()) {
         value = lyapunov_value_over<D, with_z>(w.v, w.folds, plan_.lyapunov_log_norm0,
                                                t_lane - plan_.spec.t_start);
       } else if (!window_) {
@@ -173,7 +225,8 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
           value = ((e.folds - a.folds) * kFoldLog + (e.log_norm - a.log_norm)) /
                   (static_cast<double>(n_e - n_a_) * plan_.spec.h);
       }
-      if (!std::isfinite(value) && (!window_ || n_e_nonempty(b.n))) b.non_finite = true;
+      if (window_ && !adaptive_method<Method>()) nonempty = n_e_nonempty(b.n);
+      if (!std::isfinite(value) && nonempty) b.non_finite = true;
     }
     out_.columns[static_cast<std::size_t>(plan_.map.lyapunov)]
                 [static_cast<std::size_t>(b.point - out_.range.begin)] = value;
@@ -200,10 +253,13 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   BlockResults& out_;
   bool window_;
   std::int64_t n_a_, n_b_;  // the exponent's steps: the window's first and last samples
+  double t_a_, t_b_;        // their times, for an adaptive lane (t_b at most t_end)
   TangentTile<S, W> main_{}, fin_{};
   TangentTile<S, W> snapshot_[2]{};  // the tiles' tangents at the start of their last advance
   LaneTangent<D> rerun_{};
-  std::function<void(double, double*)> stop_dense_;  // during advance_adaptive_tile (at_stop)
+  // The tangent at a time inside the step on_dense is called for (at_stop, in_step), during
+  // advance_adaptive_tile.
+  std::function<void(double, double*)> dense_tangent_;
   Mark mark_a_[2 * W]{}, mark_b_[2 * W]{};
 };
 

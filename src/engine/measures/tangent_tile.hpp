@@ -133,10 +133,11 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
 // after the last, as in the fixed-step advance; it commutes with every rounding of the linear
 // tangent, so the exponent does not depend on when it runs, only on the lane's own steps.
 //
-// With `stop` (want_dense), a lane whose step may hold its stop keeps its tangent before the
-// step, and an accepted step that does gets the continuous extension of the state with its
-// tangent (Dop853Dense on duals: four more stages on duals), from which the runner reads the
-// tangent at the stop (LyapunovLanes::at_stop). wz, wmu: the components the step integrates.
+// With `stop` or `observe_window` (want_dense), a lane whose step may hold its stop or a
+// window's end keeps its tangent before the step, and an accepted step that does gets the
+// continuous extension of the state with its tangent (Dop853Dense on duals: four more stages on
+// duals), from which the runner reads the tangent there (LyapunovLanes::at_stop, in_step).
+// wz, wmu: the components the step integrates.
 template <Scene S, int W, bool wz, bool wmu>
 struct AdaptiveTangent {
   static constexpr int D = S::dof;
