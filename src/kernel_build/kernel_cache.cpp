@@ -81,18 +81,19 @@ fs::path code_file() {
   return fs::read_symlink("/proc/self/exe", error);
 }
 
-// A kernel calls the engine's code that does not depend on the scene where it was compiled, in
-// the file holding this code (engine/engine_export.hpp). The program's exports are seen by every
-// library it loads; the Python module, which python3 loaded with RTLD_LOCAL, is made global
-// first (RTLD_NOLOAD: the module already loaded, nothing else), or the kernel's load would fail
-// with an undefined symbol.
-void export_engine_to_kernels() {
-  static const bool once = [] {
-    const fs::path code = code_file();
-    if (!code.empty()) ::dlopen(code.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_GLOBAL);
-    return true;
-  }();
-  (void)once;
+// A kernel calls the engine's code that does not depend on the scene in the file holding this
+// code (engine/engine_export.hpp). The program's exports are in the global scope of every library
+// it loads. The Python module, which python3 loads with RTLD_LOCAL, is instead named as the
+// kernel's own dependency by its absolute path: the loader finds that file already loaded (by
+// device and inode) and puts it in the kernel's scope alone, so nothing of the module or its
+// libraries (HDF5, MPI) becomes global for the libraries Python loads later, and a kernel binds
+// to the module that built it even beside another build of contactsweep.
+std::vector<std::string> host_library() {
+  const fs::path code = code_file();
+  std::error_code error;
+  const fs::path program = fs::read_symlink("/proc/self/exe", error);
+  if (code.empty() || fs::equivalent(code, program, error) || error) return {};
+  return {code.string()};
 }
 
 // The headers a kernel includes: the snapshot installed beside the program (PREFIX/bin/
@@ -242,6 +243,7 @@ Toolchain toolchain() {
   tc.flags.push_back("-fPIC");
   tc.flags.push_back("-shared");
   tc.include_dir = header_directory();
+  tc.link_inputs = host_library();
   tc.system_include_dirs = split(toolchain_config::kMpiIncludeDirs, ';');
   return tc;
 }
@@ -266,7 +268,7 @@ std::string kernel_key(const std::string& source) {
   std::uint64_t h = fnv1a(source);
   for (const std::string& part :
        {tc.compiler, compiler_identity(tc.compiler), fmt::format("{}", fmt::join(tc.flags, " ")),
-        std::string(kVersion), build_identity(), cpu, std::string(kKernelHeadersHash)})
+        fmt::format("{}", fmt::join(tc.link_inputs, " ")), std::string(kVersion), build_identity(), cpu, std::string(kKernelHeadersHash)})
     h = fnv1a(part, fnv1a(std::string_view("\0", 1), h));
   return fmt::format("{:016x}", h);
 }
@@ -325,6 +327,7 @@ BuiltKernel build_kernel(const std::string& source) {
   args.push_back("-I" + tc.include_dir);
   for (const auto& d : tc.system_include_dirs) args.push_back("-isystem" + d);
   args.insert(args.end(), {"-o", work.path_of("kernel.so"), work.path_of("kernel.cpp")});
+  args.insert(args.end(), tc.link_inputs.begin(), tc.link_inputs.end());
   const auto start = std::chrono::steady_clock::now();
   int status = 0;
   try {
@@ -368,7 +371,6 @@ LoadedKernel load_kernel(const std::string& source) {
   // Loaded through the descriptor that was checked: what is mapped is what was read.
   const std::string by_descriptor = fmt::format("/proc/self/fd/{}", library.fd);
   const bool proc = ::access(by_descriptor.c_str(), R_OK) == 0;
-  export_engine_to_kernels();
   void* handle = ::dlopen(proc ? by_descriptor.c_str() : path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr)
     throw std::runtime_error(fmt::format("cannot load the kernel '{}': {}", path, ::dlerror()));

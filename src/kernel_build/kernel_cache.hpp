@@ -49,6 +49,7 @@ struct Toolchain {
   std::vector<std::string> flags;    // the program's own, plus -fPIC -shared
   std::string include_dir;           // the headers' snapshot: installed, else the build tree's
   std::vector<std::string> system_include_dirs;  // MPI's
+  std::vector<std::string> link_inputs;  // the Python module, when the kernel is built for it
 };
 
 Toolchain toolchain();
