@@ -95,6 +95,40 @@ TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) 
             (std::vector<std::int64_t>{2, 1, 0, 1, 0, 0, 0}));
 }
 
+// A block whose lanes nearly all differ in their records (a strange attractor's sketches) would
+// cost more as entries (a record, a settlement's copy and a reason each: 14 values with one dof)
+// than as per-point columns (11 values a lane): it keeps the per-point layout, so that layout
+// bounds what any block holds (the memory check counts it).
+TEST(LaneRecords, BlockWhoseEntriesWouldCostMoreKeepsItsPerPointRecords) {
+  const RunSpec spec = parse_run_spec(kSpec, {"grid.q_0.n=2", "grid.p_0.n=3"}, "test spec");
+  const auto plan = plan_of(spec);
+  BlockResults block({0, 6}, plan->columns);
+  const auto at = [&](int c) -> std::vector<double>& {
+    return block.columns[static_cast<std::size_t>(c)];
+  };
+  at(plan->map.basin_records) = {0.5, 0.5, 0.0};
+  at(plan->map.basin) = {1.0, 1.0, 1.0, 1.0, 1.0, 0.0};  // 5 distinct records: 70 > 66 values
+  auto& cells = at(plan->map.basin_cells);
+  cells.assign(6 * RecurrenceSearch::kRecordWidth, std::nan(""));
+  for (std::size_t i = 0; i < 5; ++i) {
+    double* record = &cells[i * RecurrenceSearch::kRecordWidth];
+    record[0] = 7.0, record[1] = 3.0 + static_cast<double>(i);
+  }
+  at(plan->map.undecided_reason) = {0.0, 0.0, 0.0, 0.0, 0.0, 2.0};
+  const std::vector<double> records = cells;
+  compact_basin(*plan, block);
+  EXPECT_FALSE(block.records_compacted);
+  EXPECT_EQ(bits(at(plan->map.basin_cells)), bits(records));
+  EXPECT_EQ(at(plan->map.basin_records), (std::vector<double>{0.5, 0.5, 0.0}));
+  const ExpandedBasin provisional(*plan, block);
+  EXPECT_EQ(at(plan->map.basin), (std::vector<double>{1.0, 1.0, 1.0, 1.0, 1.0, 0.0}));
+  EXPECT_EQ(recurrence_record_of(*plan, block, 3)[1], 6.0);
+  std::int64_t counts[kUndecidedReasons] = {};
+  count_undecided(*plan, block, at(plan->map.basin), counts);
+  EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
+            (std::vector<std::int64_t>{0, 0, 1, 0, 0, 0, 0}));
+}
+
 // A whole map in blocks: once from the per-point columns, once compacted as a run holds them.
 struct Outcome {
   std::vector<double> candidates, labels;
@@ -168,6 +202,19 @@ TEST(LaneRecords, CompactedBlocksGiveTheSameTableLabelsAndReasons) {
   EXPECT_EQ(counted, undecided);
   EXPECT_EQ(whole.entries, whole.lanes);            // per point: a record a lane
   EXPECT_LT(compact.entries * 4, compact.settled);  // 38 of 516 settled lanes when written
+
+  // Blocks of one lane: those settled by recurrences keep their per-point record (one entry
+  // would cost more), the others are compacted; the outcome is the same bits.
+  const Outcome single = map_in_blocks(*plan, 1, false);
+  const Outcome mixed = map_in_blocks(*plan, 1, true);
+  EXPECT_EQ(bits(mixed.candidates), bits(single.candidates));
+  EXPECT_EQ(bits(mixed.labels), bits(single.labels));
+  EXPECT_EQ(mixed.undecided, single.undecided);
+  ASSERT_EQ(mixed.table.attractors.size(), single.table.attractors.size());
+  for (std::size_t k = 0; k < single.table.attractors.size(); ++k)
+    EXPECT_EQ(bits(mixed.table.attractors[k].point), bits(single.table.attractors[k].point));
+  EXPECT_LT(mixed.entries, mixed.lanes);  // some blocks compacted (no entry kept)...
+  EXPECT_GT(mixed.entries, 0u);           // ... and some kept their record
 }
 
 }  // namespace

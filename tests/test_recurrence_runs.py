@@ -21,6 +21,7 @@ candidates of several blocks, and of two ranks, are merged, and:
     "no recurrence by t_end"; with a box the cycle never enters, every lane "left the box"; a
     `period` given for this K without t is named as the likely mistake.
 """
+import glob
 import os
 import subprocess
 import sys
@@ -108,6 +109,9 @@ if mixed:
               f"labels {np.unique(basin, return_counts=True)}, {f.attrs.get('basin_undecided')}")
     killed, result = runs.launch(MIXED, "vdp_resumed", env_extra={"CONTACTSWEEP_TEST_KILL": "block:2"},
                                  expect=-9)
+    journaled = glob.glob(killed + ".journal/block_*.bin") if killed is not None else []
+    check("the killed run left finished blocks in its journal", len(journaled) >= 1,
+          f"{len(journaled)} blocks")
     if killed is not None:  # --resume, without the --force every launch passes
         env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                    OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")

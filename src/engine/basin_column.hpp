@@ -15,7 +15,9 @@
 namespace cs {
 
 // After the block is saved (or loaded from the journal): nothing reads its `basin` as doubles
-// until the end. Safe beside a thread that reads the block's other columns.
+// until the end. It rewrites `basin` and, on a recurrence map, `basin_records`, `basin_cells` and
+// `undecided_reason` (lane_records.hpp): no other thread reads those of a saved block (the output
+// stream reads only the columns it writes).
 inline void compact_basin(const RunPlan& plan, BlockResults& block) {
   if (plan.map.basin < 0 || block.basin_compacted) return;
   compact_recurrence_columns(plan, block);  // reads and renumbers the provisional values

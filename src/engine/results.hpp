@@ -57,6 +57,9 @@ struct BlockResults {
   // `basin` once the block is saved and streamed (compact_basin): its column is then empty.
   CompactColumn compact_basin;
   bool basin_compacted = false;
+  // The recurrence mapper's records held per distinct entry (engine/recurrence/lane_records.hpp);
+  // false when the block's entries would cost more than its per-point records.
+  bool records_compacted = false;
 
   BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
     auto n = r.end - r.begin;

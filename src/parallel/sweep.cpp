@@ -116,11 +116,6 @@ struct HeldValues {
   double per_point_in_flight = 0.0, per_point_kept = 0.0, per_block_kept = 0.0;
 };
 
-// The distinct entries a block of a recurrence map is counted to keep (lane_records.hpp), per
-// point: the lanes of a limit cycle share one record, but those of a strange attractor mostly
-// differ in their sketches (the chaotic forced Duffing map keeps 0.45 entries a lane).
-constexpr double kRecurrenceEntriesPerPoint = 0.5;
-
 HeldValues held_values(const RunPlan& plan) {
   HeldValues held;
   for (const auto& column : streamed_columns(plan))
@@ -135,17 +130,10 @@ HeldValues held_values(const RunPlan& plan) {
       held.per_point_in_flight += 0.5 * static_cast<double>(column.width);
     }
     if (!column.internal) continue;
-    // The recurrence mapper's record and reason: per point in flight, then only each block's
-    // distinct entries (engine/recurrence/lane_records.hpp: a record, a copy of its settlement
-    // and a reason each) and its counts per reason.
-    const int index = static_cast<int>(k);
-    if (index == plan.map.basin_cells || index == plan.map.undecided_reason) {
-      held.per_point_in_flight += static_cast<double>(column.width);
-      const double entry = static_cast<double>(column.width + 2 * plan.scene.dof + 2);
-      if (index == plan.map.basin_cells) held.per_point_kept += kRecurrenceEntriesPerPoint * entry;
-      else held.per_block_kept += kUndecidedReasons;
-      continue;
-    }
+    // The recurrence mapper's record and reason: a saved block keeps only its distinct entries
+    // and its counts per reason (engine/recurrence/lane_records.hpp), but only where they cost
+    // less than these per-point columns, which are thus the most it holds.
+    if (static_cast<int>(k) == plan.map.undecided_reason) held.per_block_kept += kUndecidedReasons;
     if (column.per_block) held.per_block_kept += static_cast<double>(column.width);
     else held.per_point_kept += static_cast<double>(column.width);
   }
@@ -188,7 +176,7 @@ std::string gib(double bytes) { return fmt::format("{:.3g} GiB", bytes / (1024.0
 // in flight (being computed by its threads, queued for the journal, queued for the output: at
 // most about two per thread and the journal's queue) and, on a basin map, each block's labels
 // (compact: engine/basin_column.hpp) and internal columns until the end (the recurrence
-// mapper's per distinct entry once saved: engine/recurrence/lane_records.hpp); rank 0 also reads one
+// mapper's at most per point: engine/recurrence/lane_records.hpp); rank 0 also reads one
 // band of the map back from the file at a time for the statistics (summary_bytes_on_rank0). Ranks on one node share its memory (counted per node, against that node's
 // budget); at the end the disk holds the journal and the file at once.
 void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_t local_blocks,

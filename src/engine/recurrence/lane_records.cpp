@@ -22,7 +22,7 @@ struct KeyHash {
 };
 
 bool compacted(const RunPlan& plan, const BlockResults& block) {
-  return plan.map.basin_cells >= 0 && block.basin_compacted;
+  return plan.map.basin_cells >= 0 && block.records_compacted;
 }
 
 void count(double why, std::int64_t* counts) {
@@ -61,20 +61,48 @@ std::size_t entry_of(double provisional, const Layout& layout) {
   return number <= layout.settlements ? layout.entries : number - layout.settlements - 1;
 }
 
+// The bits of lane i's provisional value, record and reason.
+Key key_of(const std::vector<double>& basin, const std::vector<double>& cells,
+           const std::vector<double>& reasons, std::size_t i) {
+  Key key;
+  key[0] = std::bit_cast<std::uint64_t>(basin[i]);
+  for (std::size_t k = 0; k < kRecord; ++k)
+    key[1 + k] = std::bit_cast<std::uint64_t>(cells[i * kRecord + k]);
+  key[kRecord + 1] = std::bit_cast<std::uint64_t>(reasons[i]);
+  return key;
+}
+
+// Whether the block's distinct entries (a record, a settlement's copy and a reason each) cost
+// less than its per-point records and reasons. A strange attractor's lanes mostly differ in their
+// sketches, so a block may keep nearly one entry a lane: it then keeps the per-point layout, and
+// the memory check (parallel/sweep.cpp) can count that layout as the most a block holds.
+bool entries_pay(const std::vector<double>& basin, const std::vector<double>& cells,
+                 const std::vector<double>& reasons, std::size_t width) {
+  const std::size_t budget = basin.size() * (kRecord + 1) / (kRecord + width + 1);
+  std::unordered_map<Key, char, KeyHash> seen;
+  for (std::size_t i = 0; i < basin.size(); ++i) {
+    if (basin[i] == 0.0 || !needs_entry(&cells[i * kRecord], reasons[i])) continue;
+    seen.try_emplace(key_of(basin, cells, reasons, i), 0);
+    if (seen.size() > budget) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
-  if (plan.map.basin_cells < 0 || block.basin_compacted) return;
+  if (plan.map.basin_cells < 0 || block.basin_compacted || block.records_compacted) return;
   auto& basin = block.columns[static_cast<std::size_t>(plan.map.basin)];
   auto& settlements = block.columns[static_cast<std::size_t>(plan.map.basin_records)];
   auto& cells = block.columns[static_cast<std::size_t>(plan.map.basin_cells)];
   auto& reasons = block.columns[static_cast<std::size_t>(plan.map.undecided_reason)];
   const auto width = static_cast<std::size_t>(2 * plan.scene.dof + 1);
+  if (!entries_pay(basin, cells, reasons, width)) return;
   const std::size_t count_of_settlements = settlements.size() / width;
   std::vector<double> copies, records, why(kUndecidedReasons, 0.0);
   std::int64_t unsettled[kUndecidedReasons] = {};
   std::unordered_map<Key, double, KeyHash> numbers;
-  Key key, last{};
+  Key last{};
   double last_number = 0.0;
   for (std::size_t i = 0; i < basin.size(); ++i) {
     const double* record = &cells[i * kRecord];
@@ -83,9 +111,7 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
       continue;
     }
     if (!needs_entry(record, reasons[i])) continue;
-    key[0] = std::bit_cast<std::uint64_t>(basin[i]);
-    for (std::size_t k = 0; k < kRecord; ++k) key[1 + k] = std::bit_cast<std::uint64_t>(record[k]);
-    key[kRecord + 1] = std::bit_cast<std::uint64_t>(reasons[i]);
+    const Key key = key_of(basin, cells, reasons, i);
     if (last_number > 0.0 && key == last) {  // neighbours mostly share their entry
       basin[i] = last_number;
       continue;
@@ -111,6 +137,7 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
   cells = std::move(records);
   reasons = std::move(why);
   settlements.shrink_to_fit(), cells.shrink_to_fit(), reasons.shrink_to_fit();
+  block.records_compacted = true;
 }
 
 const double* recurrence_record_of(const RunPlan& plan, const BlockResults& block,
