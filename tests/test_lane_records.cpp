@@ -169,24 +169,28 @@ Outcome map_in_blocks(const RunPlan& plan, std::int64_t size, bool compact) {
   return out;
 }
 
-TEST(LaneRecords, CompactedBlocksGiveTheSameTableLabelsAndReasons) {
-  const RunSpec spec = parse_run_spec(kSpec, {}, "test spec");
-  const auto plan = plan_of(spec);
-  ASSERT_GE(plan->map.basin_cells, 0);
-  const Outcome whole = map_in_blocks(*plan, 96, false);
-  const Outcome compact = map_in_blocks(*plan, 96, true);
-  EXPECT_EQ(bits(compact.candidates), bits(whole.candidates));
-  EXPECT_EQ(bits(compact.labels), bits(whole.labels));
-  EXPECT_EQ(compact.undecided, whole.undecided);
-  ASSERT_EQ(compact.table.attractors.size(), whole.table.attractors.size());
-  for (std::size_t k = 0; k < whole.table.attractors.size(); ++k) {
-    const Attractor &x = compact.table.attractors[k], &y = whole.table.attractors[k];
+void expect_same_bits(const Outcome& got, const Outcome& want) {
+  EXPECT_EQ(bits(got.candidates), bits(want.candidates));
+  EXPECT_EQ(bits(got.labels), bits(want.labels));
+  EXPECT_EQ(got.undecided, want.undecided);
+  ASSERT_EQ(got.table.attractors.size(), want.table.attractors.size());
+  for (std::size_t k = 0; k < want.table.attractors.size(); ++k) {
+    const Attractor &x = got.table.attractors[k], &y = want.table.attractors[k];
     EXPECT_EQ(x.label, y.label);
     EXPECT_EQ(x.period, y.period);
     EXPECT_EQ(bits(x.point), bits(y.point));
     EXPECT_EQ(x.cells, y.cells);
     EXPECT_EQ(x.source, y.source);
   }
+}
+
+TEST(LaneRecords, CompactedBlocksGiveTheSameTableLabelsAndReasons) {
+  const RunSpec spec = parse_run_spec(kSpec, {}, "test spec");
+  const auto plan = plan_of(spec);
+  ASSERT_GE(plan->map.basin_cells, 0);
+  const Outcome whole = map_in_blocks(*plan, 96, false);
+  const Outcome compact = map_in_blocks(*plan, 96, true);
+  expect_same_bits(compact, whole);
   // Not a vacuous map: attractors by recurrences and by a fixed point, labelled and undecided
   // lanes; and far fewer entries than settled lanes.
   int by_cells = 0, fixed = 0;
@@ -207,12 +211,7 @@ TEST(LaneRecords, CompactedBlocksGiveTheSameTableLabelsAndReasons) {
   // would cost more), the others are compacted; the outcome is the same bits.
   const Outcome single = map_in_blocks(*plan, 1, false);
   const Outcome mixed = map_in_blocks(*plan, 1, true);
-  EXPECT_EQ(bits(mixed.candidates), bits(single.candidates));
-  EXPECT_EQ(bits(mixed.labels), bits(single.labels));
-  EXPECT_EQ(mixed.undecided, single.undecided);
-  ASSERT_EQ(mixed.table.attractors.size(), single.table.attractors.size());
-  for (std::size_t k = 0; k < single.table.attractors.size(); ++k)
-    EXPECT_EQ(bits(mixed.table.attractors[k].point), bits(single.table.attractors[k].point));
+  expect_same_bits(mixed, single);
   EXPECT_LT(mixed.entries, mixed.lanes);  // some blocks compacted (no entry kept)...
   EXPECT_GT(mixed.entries, 0u);           // ... and some kept their record
 }
