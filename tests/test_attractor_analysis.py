@@ -25,6 +25,10 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
   plus the tangent's alignment transient, 200 lambda / W.
 * The built-in double well's map builds no kernel: kind 0, the points its wells, lambda_1 the
   linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to 1e-8.
+* The orbit is a kernel of its own (kernel_build/kernel_source.hpp): a K run without a basin
+  map builds the block runner's kernel alone; its basin map then builds the orbit kernel, which
+  holds nothing else, and the next map of the same K and method builds nothing; a built-in
+  scene on its stroboscopic map builds the orbit kernel alone.
 * The new datasets are the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads (whole files).
 """
 import math
@@ -259,6 +263,47 @@ if builtin:
           and np.all(np.isnan(t["attractor_time_period"]))
           and np.allclose(t["attractor_points"][:, :, 0], [[-1.0], [1.0]]),
           f"{t['attractor_kind']} {t['attractor_lyapunov']} {t['attractor_points'][:, 0]}")
+
+# ---- the orbit is a kernel of its own, built only for a table that needs it -----------------------
+RUN_ENTRY, ORBIT_ENTRY = "contactsweep_run_block", "contactsweep_attractor_orbit"
+
+
+def entries(cache):
+    """The kernel entry points each library in the cache defines."""
+    found = {}
+    for name in sorted(os.listdir(cache)):
+        if name.startswith("kernel-") and name.endswith(".so"):
+            symbols = subprocess.run(["nm", "-D", "--defined-only", os.path.join(cache, name)],
+                                     capture_output=True, text=True, check=True).stdout.split()
+            found[name] = {e for e in (RUN_ENTRY, ORBIT_ENTRY) if e in symbols}
+    return found
+
+
+split_cache = os.path.join(work, "orbit_split_cache")
+os.makedirs(split_cache, mode=0o700, exist_ok=True)
+trajectory_only = WELL.replace("basin = {}", "final_state = true")
+_, log = run(trajectory_only, "well_k_final_state", env_extra={"CONTACTSWEEP_CACHE": split_cache})
+found = entries(split_cache)
+check("K without a basin map: one kernel, the block runner's, and no orbit built",
+      list(found.values()) == [{RUN_ENTRY}] and "orbit kernel" not in log, f"{found}\n{log}")
+_, log = run(WELL, "well_k_split", env_extra={"CONTACTSWEEP_CACHE": split_cache})
+orbits = [n for n, e in entries(split_cache).items() if e == {ORBIT_ENTRY}]
+check("K's basin map: its orbit kernel built after the map, holding the orbit alone",
+      len(orbits) == 1 and "built the orbit kernel of scene.K" in log
+      and all(e in ({RUN_ENTRY}, {ORBIT_ENTRY}) for e in entries(split_cache).values()),
+      f"{entries(split_cache)}\n{log}")
+_, log = run(WELL.replace("n = 32", "n = 16"), "well_k_again",
+             env_extra={"CONTACTSWEEP_CACHE": split_cache})
+check("K's next basin map of another grid builds nothing (both kernels cached)",
+      "built the" not in log, log)
+strobe_cache = os.path.join(work, "orbit_strobe_cache")
+os.makedirs(strobe_cache, mode=0o700, exist_ok=True)
+_, log = run(BUILTIN.replace("basin = {}", "basin = { period = 5.0 }"), "well_builtin_strobe",
+             env_extra={"CONTACTSWEEP_CACHE": strobe_cache})
+found = entries(strobe_cache)
+check("built-in scene on its stroboscopic map: only the orbit kernel is built",
+      list(found.values()) == [{ORBIT_ENTRY}] and "built the orbit kernel of scene double_well" in log
+      and "built the kernel" not in log, f"{found}\n{log}")
 
 # ---- the chaotic forced Duffing on its stroboscopic map ---------------------------------------
 # Reference: tests/reference/duffing_lyapunov.py (scipy DOP853 + variational equations), 8

@@ -359,7 +359,7 @@ BuiltKernel build_kernel(const std::string& source) {
   return built;
 }
 
-LoadedKernel load_kernel(const std::string& source) {
+void* load_kernel(const std::string& source, const char* entry_name) {
   const std::string key = kernel_key(source), name = library_name(key);
   const OwnedDirectory dir = open_cache(OwnedDirectory::Create::no);
   const std::string path = dir.is_open() ? dir.path_of(name) : kernel_cache_directory() + "/" + name;
@@ -378,19 +378,18 @@ LoadedKernel load_kernel(const std::string& source) {
   if (stamped == nullptr || key != stamped)
     throw std::runtime_error(fmt::format("the kernel '{}' was not built for this K (its key: {}; "
                                          "expected {})", path, stamped ? stamped : "none", key));
-  void* entry = ::dlsym(handle, kKernelEntry);
-  void* orbit = ::dlsym(handle, kOrbitEntry);
-  if (entry == nullptr || orbit == nullptr)
-    throw std::runtime_error(fmt::format("the kernel '{}' has no entry point {}", path,
-                                         entry == nullptr ? kKernelEntry : kOrbitEntry));
+  void* entry = ::dlsym(handle, entry_name);
+  if (entry == nullptr)
+    throw std::runtime_error(fmt::format("the kernel '{}' has no entry point {}", path, entry_name));
   // The handle stays open for the process's life, and so does the descriptor: the loader knows
   // the library by its name /proc/self/fd/N, and would hand it out again for a later kernel
   // loaded through a reused N.
   library.fd = -1;
-  return {reinterpret_cast<KernelFn>(entry), reinterpret_cast<OrbitFn>(orbit)};
+  return entry;
 }
 
-LoadedKernel prepare_kernel(const std::string& source, MPI_Comm comm, BuiltKernel* built) {
+void* prepare_kernel(const std::string& source, const char* entry, MPI_Comm comm,
+                     BuiltKernel* built) {
   int node_rank = 0;
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(comm)) {
@@ -407,7 +406,7 @@ LoadedKernel prepare_kernel(const std::string& source, MPI_Comm comm, BuiltKerne
   if (node != MPI_COMM_NULL) MPI_Comm_free(&node);
   throw_if_any_failed(comm, failure);
   if (built != nullptr) *built = mine;
-  return agreed(comm, [&] { return load_kernel(source); });
+  return agreed(comm, [&] { return load_kernel(source, entry); });
 }
 
 }  // namespace cs

@@ -27,19 +27,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/attractor_analysis.hpp"  // OrbitFn
-
 namespace cs {
 
 struct RunPlan;
 struct BlockResults;
 using KernelFn = void (*)(const RunPlan&, BlockResults&);
-
-// A loaded kernel's two entry points: the block runner and one attractor's orbit.
-struct LoadedKernel {
-  KernelFn run = nullptr;
-  OrbitFn orbit = nullptr;
-};
 
 // How the cache is named in messages about its trust (io/owned_directory.hpp).
 inline constexpr const char* kKernelCachePurpose = "the kernel cache";
@@ -71,13 +63,14 @@ struct BuiltKernel {
 // when the cache cannot be trusted.
 BuiltKernel build_kernel(const std::string& source);
 
-// Checks the cached library of `source` and loads it (dlopen + dlsym of the entry point);
-// throws std::runtime_error when it is missing, damaged or made for another key.
-LoadedKernel load_kernel(const std::string& source);
+// Checks the cached library of `source` and loads it (dlopen + dlsym of its entry point
+// `entry`, kernel_source.hpp); throws std::runtime_error when it is missing, damaged, made for
+// another key or without that entry point.
+void* load_kernel(const std::string& source, const char* entry);
 
-// Collective: one build per node (its first rank; the others wait), then every rank loads it.
-// Throws on every rank when any step fails anywhere.
-LoadedKernel prepare_kernel(const std::string& source, MPI_Comm comm,
-                            BuiltKernel* built = nullptr);
+// Collective: one build per node (its first rank; the others wait), then every rank loads it
+// and returns its entry point `entry`. Throws on every rank when any step fails anywhere.
+void* prepare_kernel(const std::string& source, const char* entry, MPI_Comm comm,
+                     BuiltKernel* built = nullptr);
 
 }  // namespace cs

@@ -18,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/attractor_analysis.hpp"
 #include "engine/basin_column.hpp"
 #include "engine/fixed_point_exponent.hpp"
 #include "engine/run_plan.hpp"
@@ -255,29 +256,55 @@ void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
 }
 
+// The scene's header and struct for a kernel built at run time: scene.K's generated one, or a
+// built-in scene's (its header in the snapshot).
+SceneSource scene_source(const RunPlan& plan) {
+  return plan.spec.custom ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
+                          : builtin_scene_source(plan.scene.name);
+}
+
 // A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
 // is written: a failed build leaves no journal and no file. A built-in scene goes through it too
-// (with the header the build generated for it) when the run has the lyapunov tangent or
-// measures as formulas (observe, stop): the built-in kernels are compiled without them.
-LoadedKernel custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
-  const SceneSource scene = plan.spec.custom
-                                ? SceneSource{plan.spec.custom->header, plan.spec.custom->struct_name}
-                                : builtin_scene_source(plan.scene.name);
+// when the run has the lyapunov tangent or measures as formulas (observe, stop): the built-in
+// kernels are compiled without them.
+KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+  const SceneSource scene = scene_source(plan);
   KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
   if (has_measure_formulas(plan.spec.measures))
     choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
   const std::string source = kernel_source(scene.header, scene.struct_name, choice);
   BuiltKernel built;
-  LoadedKernel kernel = prepare_kernel(source, comm, &built);
+  void* entry = prepare_kernel(source, kKernelEntry, comm, &built);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
         plan.spec.custom        ? "scene.K"
         : plan.carry.tangent    ? "scene " + plan.scene.name + " with lyapunov"
-        : has_measure_formulas(plan.spec.measures) ? "scene " + plan.scene.name + " with its measures"
-                                : "scene " + plan.scene.name + " to describe its attractors",
-        built.seconds,
-        built.library);
-  return kernel;
+                                : "scene " + plan.scene.name + " with its measures",
+        built.seconds, built.library);
+  return reinterpret_cast<KernelFn>(entry);
+}
+
+// The orbit kernel of the run's scene and method (kernel_source.hpp), built after the map when
+// its table needs orbits: every rank has the same table, so all or none get here.
+OrbitFn orbit_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+  const SceneSource scene = scene_source(plan);
+  BuiltKernel built;
+  void* entry = prepare_kernel(orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method),
+                               kOrbitEntry, comm, &built);
+  if (built.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the orbit kernel of {} to describe its attractors in {:.1f} s "
+        "(cached: {})",
+        plan.spec.custom ? "scene.K" : "scene " + plan.scene.name, built.seconds, built.library);
+  return reinterpret_cast<OrbitFn>(entry);
+}
+
+// Does the description of the table's attractors integrate orbits? Where the table's fixed
+// points are not enough (needs_orbits); and for scene.K wherever it holds an attractor, since
+// the exact λ₁ of a fixed point (fixed_point_exponent) needs a built-in scene's type.
+bool wants_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
+  if (needs_orbits(plan, table)) return true;
+  return plan.spec.custom &&
+         std::any_of(table.begin(), table.end(), [](const Attractor& a) { return a.period != kExitPeriod; });
 }
 
 // A RunControl sees the reporter of the loop, and only while it lives.
@@ -306,10 +333,9 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
-  LoadedKernel kernel;
   if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
-    kernel = custom_kernel(plan, options, comm);
-    for (auto& slice : slices) slice->custom_kernel = kernel.run;
+    const KernelFn kernel = custom_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->custom_kernel = kernel;
   }
   SweepSummary summary;
   summary.points = plan.grid.size();
@@ -414,19 +440,17 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   std::optional<BasinSummary> basins;
   if (plan.map.basin >= 0) {
     basins = summarise_basins(plan, results, comm);
-    // Each attractor described (attractor_analysis.hpp). A built-in scene's map whose table
-    // holds more than the fixed points of an autonomous scene builds its kernel now (every rank
-    // has the same table, so all or none do); rank 0, which writes the file, integrates.
-    if (kernel.orbit == nullptr && needs_orbits(plan, basins->table))
-      kernel = custom_kernel(plan, options, comm);
+    // Each attractor described (attractor_analysis.hpp), its orbit kernel built first when it
+    // needs one; rank 0, which writes the file, integrates.
+    OrbitFn orbit = nullptr;
+    if (wants_orbits(plan, basins->table)) orbit = orbit_kernel(plan, options, comm);
     const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
       // A built-in scene's fixed points get their exact λ₁ (the program holds its type).
       const FixedPointExponentFn fixed = plan.spec.custom ? nullptr : &fixed_point_exponent;
-      if (c.rank == 0)
-        basins->analysis = analyse_attractors(plan, basins->table, kernel.orbit, fixed);
+      if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, orbit, fixed);
     });
-    if (kernel.orbit != nullptr && !options.quiet && c.rank == 0)
+    if (orbit != nullptr && !options.quiet && c.rank == 0)
       log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count());
   }
