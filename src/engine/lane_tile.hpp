@@ -287,16 +287,17 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
           // Accepted (its time moved) and at its sample: the last step lands on t_end, which
           // may round below t_before + h; the runner takes a sample at t_end from the state.
           if (!(may_reach[i] && t.ad.t[i] > t_before[i])) continue;
-          bool due = t.ad.t[i] >= t.ad.next_sample[i];
-          if constexpr (kWatch) due = due || watch(i);
-          if (!due) continue;
+          bool watched = false;  // the stop's condition holds at the step's end (pure)
+          if constexpr (kWatch) watched = watch(i);
+          if (!(t.ad.t[i] >= t.ad.next_sample[i] || watched)) continue;
           P r[kStages];
           load_rates(r, std::integral_constant<int, kStages>{}, i);
           const ParamsOf<S, double> c = Uniform ? c0 : t.params(i);
           const auto dense = Dop853Dense<S, with_z, with_mu>::build(
               y_before[i], state(i), r, c, t_before[i], h_before[i]);
-          if constexpr (kTangent)
-            tangent.build_dense(i, y_before[i], state(i), r, c, t_before[i], h_before[i]);
+          if constexpr (kTangent)  // read at the stop and at the window's ends alone
+            if (watched || t.ad.t[i] >= tangent.mark_at[i])
+              tangent.build_dense(i, y_before[i], state(i), r, c, t_before[i], h_before[i]);
           on_dense(i, dense);
         }
       }

@@ -120,6 +120,8 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
     AdaptiveTangent<S, W, carry.z || S::z_feeds_back, carry.mu && !S::kz_constant> tangent{
         main ? main_ : fin_};
     tangent.want_dense = !std::is_null_pointer_v<std::remove_cvref_t<Watch>> || window_;
+    for (int i = 0; i < W; ++i) tangent.mark_at[i] = next_mark(main ? i : W + i);
+    marks_in_advance_ = tangent.mark_at;
     dense_tangent_ = [&tangent](double te, double* v) {
       const auto y = tangent.dense.at_time(te);
       for (int d = 0; d < D; ++d) v[d] = y.q[d].d, v[D + d] = y.p[d].d;
@@ -128,6 +130,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
     advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform, [](int) {}, on_dense, watch,
                                                 tangent);
     dense_tangent_ = nullptr;
+    marks_in_advance_ = nullptr;
   }
 
   // An adaptive lane with observe_window: whether its steps must stop by the window's ends
@@ -159,6 +162,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
       if (!mark_a_[slot].set && te == t_a_) mark_a_[slot] = m;
       if (!mark_b_[slot].set && te == t_b_) mark_b_[slot] = m;
     }
+    if (marks_in_advance_ != nullptr) marks_in_advance_[i] = next_mark(slot);
   }
 
   // From on_dense of advance_adaptive_tile: lane i of the main tile or the finisher stops at
@@ -260,6 +264,7 @@ requires(carry.tangent) class LyapunovLanes<S, Method, carry, W> {
   // The tangent at a time inside the step on_dense is called for (at_stop, in_step), during
   // advance_adaptive_tile.
   std::function<void(double, double*)> dense_tangent_;
+  double* marks_in_advance_ = nullptr;  // its tangent's mark_at, for the lanes' next ends
   Mark mark_a_[2 * W]{}, mark_b_[2 * W]{};
 };
 

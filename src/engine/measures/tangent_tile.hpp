@@ -136,7 +136,9 @@ inline void advance_with_tangent(LaneTile<S, Method, W>& t, TangentTile<S, W>& g
 // With `stop` or `observe_window` (want_dense), a lane whose step may hold its stop or a
 // window's end keeps its tangent before the step, and an accepted step that does gets the
 // continuous extension of the state with its tangent (Dop853Dense on duals: four more stages on
-// duals), from which the runner reads the tangent there (LyapunovLanes::at_stop, in_step).
+// duals), from which the runner reads the tangent there (LyapunovLanes::at_stop, in_step). A
+// step that holds only other samples (trajectory, sync, the stroboscopic map) does not: its
+// lane's next window end, mark_at, lies past it.
 // wz, wmu: the components the step integrates.
 template <Scene S, int W, bool wz, bool wmu>
 struct AdaptiveTangent {
@@ -149,6 +151,7 @@ struct AdaptiveTangent {
   bool want_dense = false;
   alignas(64) double dr[12][2 * D + 1][W];  // the stages' tangent rates: δq.., δp.., δz
   alignas(64) double v_before[2 * D + 1][W];  // the tangent before the step (want_dense)
+  alignas(64) double mark_at[W];  // each lane's next window end (+∞: none), kept by the runner
   Dop853Dense<S, wz, wmu, Tangent> dense{};   // the last step's extension with its tangent
 
   // Lane i's state point y and rate r with tangent parts from v and dr[j] (rows of 2D + 1).
