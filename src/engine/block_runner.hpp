@@ -133,7 +133,9 @@ class BlockRunner {
   }
 
   // Puts point `k` into main slot i; false when it is finished at once (breakdown at t = 0).
-  bool load(int i, std::int64_t k) {
+  // Cold, as finish(): once per lane, so GCC compiles it for size and keeps it out of run(),
+  // which a new K's compile pays for in every kernel (docs/performance.md, "cold code").
+  [[gnu::cold]] bool load(int i, std::int64_t k) {
     auto [x, c] = start_lane<S, Method>(plan_, k - plan_.point_offset, clock_.t_start);
     Coef coef = Method::template coefficients<S>(plan_.spec.h, c, x);
     Book b;
@@ -430,8 +432,9 @@ class BlockRunner {
     }
   }
 
-  // The lane in `lane_slot` (main or finisher, as the mappers count) hands its results over.
-  void finish(int lane_slot, const Book& b, const LaneState<D>& x, const Params& c,
+  // The lane in `lane_slot` (main or finisher, as the mappers count) hands its results over
+  // (cold: once per lane, as load()).
+  [[gnu::cold]] void finish(int lane_slot, const Book& b, const LaneState<D>& x, const Params& c,
               LaneStatus status, bool stopped = false, int exit = 0) {
     TrapVerdict verdict = TrapVerdict::not_applicable;
     if (plan_.map.trap_verdict >= 0) verdict = mappers_.trap_verdict(c);

@@ -72,8 +72,9 @@ class LaneWriter {
   // Writes a lane's results. A lane that ran (status ok) but wrote a value that is not finite
   // where the dataset promises one (ln λ or H overflowing, z where K is undefined along the
   // path) is flagged non_finite: its values are written as computed, its basin kept (decided on
-  // q and p, which are finite), and no cell with a non-finite value reads ok.
-  void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status,
+  // q and p, which are finite), and no cell with a non-finite value reads ok. Cold: once per
+  // lane (BlockRunner::load says why).
+  [[gnu::cold]] void finish(const Book& b, const LaneState<D>& x, const Params& c, LaneStatus status,
               TrapVerdict verdict) {
     const auto& map = plan_.map;
     const double nan = std::numeric_limits<double>::quiet_NaN();

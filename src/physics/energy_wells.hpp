@@ -82,7 +82,8 @@ class WellFinder {
  public:
   WellFinder(const Params& c, const BasinBox<D>& box, double h) : c_(c), box_(box), h_(h) {}
 
-  Wells<D> find() const {
+  // Cold: once per run and parameter set, so compiled for size (kernels of K compile it).
+  [[gnu::cold]] Wells<D> find() const {
     Wells<D> wells;
     wells.box = box_;
     if constexpr (has_energy_trap<S>()) {

@@ -30,7 +30,8 @@ class EnergyTrap {
   using Params = ParamsOf<S, double>;
 
  public:
-  EnergyTrap(const RunPlan& plan, bool active, LaneClock clock, const Params& uniform)
+  // Cold, as wells_for(): once per run (BlockRunner::load says why).
+  [[gnu::cold]] EnergyTrap(const RunPlan& plan, bool active, LaneClock clock, const Params& uniform)
       : active_(active && has_energy_trap<S>()),
         clock_(clock),
         tolerance_(plan.attractors.tolerance),
@@ -229,7 +230,7 @@ class EnergyTrap {
   // grid has few distinct parameter sets. The box depends on c, the positions and the state
   // axes' values (E₀) alone: those are the key, and E₀ is computed once per entry (it visits
   // every combination of the q axes' values; per block it cost seconds on a 512² map).
-  const Wells<D>& wells_for(const Params& c) const {
+  [[gnu::cold]] const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
       BasinBox<D> positions;

@@ -40,8 +40,11 @@ class MapperSet {
   // A healthy lane at step n: each mapper in turn, until one settles it (settle_with).
   // An adaptive lane's stroboscopic map is sampled inside its steps (look_stroboscopic): its
   // looks are not on the map, and the mappers that sample it skip them.
+  // Not inlined: it holds every mapper's look, and the runner calls it from three places (a
+  // lane's load, a look, the finisher), each of which had its own copy to compile; a call per
+  // look costs nothing beside the look itself.
   template <class Lane>
-  void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
+  [[gnu::noinline]] void look(int slot, std::int64_t n, const Lane& x, const Params& c, Settlement<N>& s) {
     each([&](auto& m) {
       if (dense_strobe_ && samples_map(m)) return;
       settle_with(m, slot, n, x, c, s);
@@ -52,9 +55,9 @@ class MapperSet {
   }
 
   // An adaptive lane's stroboscopic sample k, at t_start + k·period (engine/dense_samples.hpp):
-  // the mappers that sample the map, in their order.
+  // the mappers that sample the map, in their order (not inlined, as look()).
   template <class Lane>
-  void look_stroboscopic(int slot, std::int64_t k, const Lane& x, const Params& c,
+  [[gnu::noinline]] void look_stroboscopic(int slot, std::int64_t k, const Lane& x, const Params& c,
                          Settlement<N>& s) {
     each([&](auto& m) {
       if (samples_map(m)) settle_with(m, slot, k, x, c, s);
