@@ -28,13 +28,16 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
 * The orbit is a kernel of its own (kernel_build/kernel_source.hpp): a K run without a basin
   map builds the block runner's kernel alone; its basin map then builds the orbit kernel, which
   holds nothing else, and the next map of the same K and method builds nothing; a built-in
-  scene on its stroboscopic map builds the orbit kernel alone.
+  scene on its stroboscopic map builds the orbit kernel alone; the built-in double well with
+  lyapunov (a kernel, no orbit needed) describes its attractors as it does without it, bit for
+  bit.
 * The new datasets are the same bits for 1 x 1, 1 x 2 and 2 x 1 ranks x threads (whole files).
 """
 import math
 import os
 import subprocess
 import sys
+import tempfile
 
 import h5py
 import numpy as np
@@ -279,8 +282,8 @@ def entries(cache):
     return found
 
 
-split_cache = os.path.join(work, "orbit_split_cache")
-os.makedirs(split_cache, mode=0o700, exist_ok=True)
+# Fresh caches of their own (0700), so that a second run of this test counts only its own.
+split_cache = tempfile.mkdtemp(prefix="orbit_split_cache.", dir=work)
 trajectory_only = WELL.replace("basin = {}", "final_state = true")
 _, log = run(trajectory_only, "well_k_final_state", env_extra={"CONTACTSWEEP_CACHE": split_cache})
 found = entries(split_cache)
@@ -296,14 +299,21 @@ _, log = run(WELL.replace("n = 32", "n = 16"), "well_k_again",
              env_extra={"CONTACTSWEEP_CACHE": split_cache})
 check("K's next basin map of another grid builds nothing (both kernels cached)",
       "built the" not in log, log)
-strobe_cache = os.path.join(work, "orbit_strobe_cache")
-os.makedirs(strobe_cache, mode=0o700, exist_ok=True)
+strobe_cache = tempfile.mkdtemp(prefix="orbit_strobe_cache.", dir=work)
 _, log = run(BUILTIN.replace("basin = {}", "basin = { period = 5.0 }"), "well_builtin_strobe",
              env_extra={"CONTACTSWEEP_CACHE": strobe_cache})
 found = entries(strobe_cache)
 check("built-in scene on its stroboscopic map: only the orbit kernel is built",
       list(found.values()) == [{ORBIT_ENTRY}] and "built the orbit kernel of scene double_well" in log
       and "built the kernel" not in log, f"{found}\n{log}")
+# The built-in double well with lyapunov has a kernel (the tangent's) but no orbit to integrate:
+# its attractors are described as without it, to the bit.
+with_tangent, _ = run(BUILTIN + "lyapunov = {}\n", "well_builtin_lyapunov")
+if builtin and with_tangent:
+    a, b = table(builtin), table(with_tangent)
+    check("built-in double well with lyapunov: the attractors' description without it, bit for bit",
+          all(np.array_equal(a[k], b[k], equal_nan=True) for k in a),
+          f"{a['attractor_points'][:, 0]} vs {b['attractor_points'][:, 0]}")
 
 # ---- the chaotic forced Duffing on its stroboscopic map ---------------------------------------
 # Reference: tests/reference/duffing_lyapunov.py (scipy DOP853 + variational equations), 8

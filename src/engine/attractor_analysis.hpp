@@ -4,8 +4,9 @@
 //
 // The table is the same bits on every rank, and so is this pass: it reads the table and the spec
 // alone (rank 0 computes it; sweep.cpp). The orbit itself needs the scene's and method's
-// templates on dual numbers, so it runs in the run-time kernel (attractor_orbit.hpp, behind the
-// kernel's second entry point); this file asks for it and classifies what comes back.
+// templates on dual numbers, so it runs in a kernel built at run time (attractor_orbit.hpp, the
+// orbit kernel of kernel_build/kernel_source.hpp); this file asks for it and classifies what
+// comes back.
 #pragma once
 
 #include <cstdint>

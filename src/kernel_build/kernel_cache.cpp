@@ -374,13 +374,18 @@ void* load_kernel(const std::string& source, const char* entry_name) {
   void* handle = ::dlopen(proc ? by_descriptor.c_str() : path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr)
     throw std::runtime_error(fmt::format("cannot load the kernel '{}': {}", path, ::dlerror()));
+  // A library refused after loading is closed again: the loader would otherwise keep it under
+  // the name /proc/self/fd/N and hand it out for a later kernel loaded through a reused N.
+  const auto refuse = [&](const std::string& why) {
+    ::dlclose(handle);
+    throw std::runtime_error(why);
+  };
   const auto* stamped = static_cast<const char*>(::dlsym(handle, kKernelKeySymbol));
   if (stamped == nullptr || key != stamped)
-    throw std::runtime_error(fmt::format("the kernel '{}' was not built for this K (its key: {}; "
-                                         "expected {})", path, stamped ? stamped : "none", key));
+    refuse(fmt::format("the kernel '{}' was not built for this K (its key: {}; expected {})", path,
+                       stamped ? std::string(stamped) : "none", key));
   void* entry = ::dlsym(handle, entry_name);
-  if (entry == nullptr)
-    throw std::runtime_error(fmt::format("the kernel '{}' has no entry point {}", path, entry_name));
+  if (entry == nullptr) refuse(fmt::format("the kernel '{}' has no entry point {}", path, entry_name));
   // The handle stays open for the process's life, and so does the descriptor: the loader knows
   // the library by its name /proc/self/fd/N, and would hand it out again for a later kernel
   // loaded through a reused N.
