@@ -18,20 +18,13 @@
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/words_hash.hpp"
 
 namespace cs {
 
 template <int N>
 class CS_ENGINE_EXPORT SettlementRecords {
   using Key = std::array<std::uint64_t, N + 1>;  // the bits of point.. and period
-  struct Hash {
-    std::size_t operator()(const Key& key) const {
-      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-      for (std::uint64_t v : key) h = (h ^ v) * 0xff51afd7ed558ccdULL, h ^= h >> 32;
-      return static_cast<std::size_t>(h);
-    }
-  };
-
  public:
   explicit SettlementRecords(std::vector<double>& column) : column_(column) {}
 
@@ -41,7 +34,7 @@ class CS_ENGINE_EXPORT SettlementRecords {
 
  private:
   std::vector<double>& column_;
-  std::unordered_map<Key, double, Hash> numbers_;
+  std::unordered_map<Key, double, WordsHash> numbers_;
   Key last_key_{};
   double last_ = 0.0;
 };

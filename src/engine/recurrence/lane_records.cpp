@@ -6,20 +6,14 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "engine/words_hash.hpp"
+
 namespace cs {
 namespace {
 
 constexpr std::size_t kRecord = RecurrenceSearch::kRecordWidth;
 // The bits of a settled lane's provisional value, record and reason.
 using Key = std::array<std::uint64_t, kRecord + 2>;
-
-struct KeyHash {
-  std::size_t operator()(const Key& key) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (std::uint64_t v : key) h = (h ^ v) * 0xff51afd7ed558ccdULL, h ^= h >> 32;
-    return static_cast<std::size_t>(h);
-  }
-};
 
 bool compacted(const RunPlan& plan, const BlockResults& block) {
   return plan.map.basin_cells >= 0 && block.records_compacted;
@@ -79,7 +73,7 @@ Key key_of(const std::vector<double>& basin, const std::vector<double>& cells,
 bool entries_pay(const std::vector<double>& basin, const std::vector<double>& cells,
                  const std::vector<double>& reasons, std::size_t width) {
   const std::size_t budget = basin.size() * (kRecord + 1) / (kRecord + width + 1);
-  std::unordered_map<Key, char, KeyHash> seen;
+  std::unordered_map<Key, char, WordsHash> seen;
   for (std::size_t i = 0; i < basin.size(); ++i) {
     if (basin[i] == 0.0 || !needs_entry(&cells[i * kRecord], reasons[i])) continue;
     seen.try_emplace(key_of(basin, cells, reasons, i), 0);
@@ -101,7 +95,7 @@ void compact_recurrence_columns(const RunPlan& plan, BlockResults& block) {
   const std::size_t count_of_settlements = settlements.size() / width;
   std::vector<double> copies, records, why(kUndecidedReasons, 0.0);
   std::int64_t unsettled[kUndecidedReasons] = {};
-  std::unordered_map<Key, double, KeyHash> numbers;
+  std::unordered_map<Key, double, WordsHash> numbers;
   Key last{};
   double last_number = 0.0;
   for (std::size_t i = 0; i < basin.size(); ++i) {
