@@ -82,6 +82,15 @@ const TraitCase kTraitCases[] = {
      true, false, false, true, true, false, none, {}},
     {"z inside a function", "p1^2/2 + q1^2/2 + gamma*sin(z)", 1, true, false, true, false, false,
      false, none, {"gamma"}},
+    // normal() is not tried on a fraction inside a denominator (k_traits.cpp): the traits come
+    // from the expanded partials, which are enough here; the second K took 61 s to analyse
+    // with normal() (found by the fuzzer).
+    {"a fraction in a denominator", "p^2/2 + 1/(a + 1/(q - 2) + 1/(q - 3)) - gamma*z", 1, false,
+     false, false, true, true, false, linear, {"a", "gamma"}},
+    {"a fraction in a denominator, p in it",
+     "p^2/2 - gamma*z + 1/(b + 1/(q-2) + 1/(q-3) + 1/(q-4) + c*(p+1)*(q+2)*(q+3)*(q+4)"
+     " + ((b+1)^4+1)^4)",
+     1, false, false, false, true, true, true, none, {"b", "c", "gamma"}},
     {"sorted parameters (byte order)", "b*q + a*p + B*z + Euler*q + Catalan", 1, false, false,
      false, true, true, false, none, {"B", "Catalan", "Euler", "a", "b"}},
 };

@@ -41,17 +41,33 @@ double expanded_terms(const ex& e) {
 constexpr double kMaxExpandedTerms = 2e4;
 constexpr std::size_t kMaxNormalTerms = 64;
 constexpr int kMaxNormalDenominators = 4;
+// A fraction inside a denominator, or denominators that expand to many terms, make normal()'s
+// polynomial gcds explode: 1/(a + 1/(q − 2) + 1/(q − 3) + 1/(q − 4) + c(p + 1)(q + 2)(q + 3)(q + 4)
+// + ((b + 1)^4 + 1)^4), which the fuzzer found, took 61 s to analyse.
+constexpr double kMaxDenominatorTerms = 64;
 
-// The number of distinct non-numeric denominators of the terms of e (bases of negative powers).
-int denominators(const ex& e) {
+bool negative_power(const ex& e) {
+  return is_a<GiNaC::power>(e) && is_a<numeric>(e.op(1)) && ex_to<numeric>(e.op(1)).is_negative() &&
+         !is_a<numeric>(e.op(0));
+}
+
+// Would GiNaC's normal form of e (terms of an expanded K) cost too much? Too many terms, more
+// than kMaxNormalDenominators distinct denominators (bases of negative powers), a denominator
+// that holds a fraction, or denominators of more than kMaxDenominatorTerms terms in all.
+bool normal_too_costly(const ex& e) {
+  if ((is_a<GiNaC::add>(e) ? e.nops() : 1) > kMaxNormalTerms) return true;
   GiNaC::exset bases;
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (is_a<GiNaC::power>(*it) && is_a<numeric>(it->op(1)) && ex_to<numeric>(it->op(1)).is_negative() &&
-        !is_a<numeric>(it->op(0))) {
-      bases.insert(it->op(0));
-      if (static_cast<int>(bases.size()) > kMaxNormalDenominators) break;
-    }
-  return static_cast<int>(bases.size());
+  double terms = 0;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!negative_power(*it) || !bases.insert(it->op(0)).second) continue;
+    if (static_cast<int>(bases.size()) > kMaxNormalDenominators) return true;
+    const ex& base = it->op(0);
+    for (GiNaC::const_preorder_iterator in = base.preorder_begin(); in != base.preorder_end(); ++in)
+      if (negative_power(*in)) return true;
+    terms += expanded_terms(base);
+    if (terms > kMaxDenominatorTerms) return true;
+  }
+  return false;
 }
 
 // Expanded and normalised, so that cancellations show (z·q − q·z has no z); left as it is when
@@ -60,8 +76,7 @@ int denominators(const ex& e) {
 ex simplified(const ex& e) {
   if (expanded_terms(e) > kMaxExpandedTerms) return e;
   ex r = e.expand();
-  const std::size_t terms = is_a<GiNaC::add>(r) ? r.nops() : 1;
-  if (terms > kMaxNormalTerms || denominators(r) > kMaxNormalDenominators) return r;
+  if (normal_too_costly(r)) return r;
   try {
     r = GiNaC::normal(r);
   } catch (const std::exception&) {
