@@ -91,6 +91,9 @@ const TraitCase kTraitCases[] = {
      "p^2/2 - gamma*z + 1/(b + 1/(q-2) + 1/(q-3) + 1/(q-4) + c*(p+1)*(q+2)*(q+3)*(q+4)"
      " + ((b+1)^4+1)^4)",
      1, false, false, false, true, true, true, none, {"b", "c", "gamma"}},
+    {"a denominator to the fourth power, p in it",
+     "p^2/2 - gamma*z + 1/(a + c*(p+1)*(q+2)*(q+3)*(b+4) + (b+1)^4 + 1)^4", 1, false, false,
+     false, true, true, true, none, {"a", "b", "c", "gamma"}},
     {"sorted parameters (byte order)", "b*q + a*p + B*z + Euler*q + Catalan", 1, false, false,
      false, true, true, false, none, {"B", "Catalan", "Euler", "a", "b"}},
 };

@@ -43,7 +43,9 @@ constexpr std::size_t kMaxNormalTerms = 64;
 constexpr int kMaxNormalDenominators = 4;
 // A fraction inside a denominator, or denominators that expand to many terms, make normal()'s
 // polynomial gcds explode: 1/(a + 1/(q − 2) + 1/(q − 3) + 1/(q − 4) + c(p + 1)(q + 2)(q + 3)(q + 4)
-// + ((b + 1)^4 + 1)^4), which the fuzzer found, took 61 s to analyse.
+// + ((b + 1)^4 + 1)^4), which the fuzzer found, took 61 s to analyse; so did
+// (a + c(p + 1)(q + 2)(q + 3)(b + 4) + (b + 1)^4 + 1)^(−4), whose denominator expands to 14 950
+// terms.
 constexpr double kMaxDenominatorTerms = 64;
 
 bool negative_power(const ex& e) {
@@ -64,7 +66,10 @@ bool normal_too_costly(const ex& e) {
     const ex& base = it->op(0);
     for (GiNaC::const_preorder_iterator in = base.preorder_begin(); in != base.preorder_end(); ++in)
       if (negative_power(*in)) return true;
-    terms += expanded_terms(base);
+    // A whole power b^(-n) is a denominator of b^n's terms (normal() expands it); a fractional
+    // one is kept as a symbol.
+    const numeric& n = ex_to<numeric>(it->op(1));
+    terms += n.is_integer() ? expanded_terms(GiNaC::pow(base, -n)) : expanded_terms(base);
     if (terms > kMaxDenominatorTerms) return true;
   }
   return false;
