@@ -38,8 +38,10 @@
 namespace cs {
 
 // `Formulas`: the run's observe and stop (engine/measures/observables.hpp), generated into the
-// run-time kernel; none in the built-in kernels.
-template <Scene S, class Method, Carry carry, bool Uniform, class Formulas = NoMeasureFormulas>
+// run-time kernel; none in the built-in kernels. `Mappers`: the basin mappers compiled in
+// (mappers/mapper_choice.hpp); a run-time kernel has only its plan's, the built-in ones all.
+template <Scene S, class Method, Carry carry, bool Uniform, class Formulas = NoMeasureFormulas,
+          MapperChoice Mappers = kEveryMapper>
 class BlockRunner {
   static constexpr bool kFormulas = kHasFormulas<Formulas>;
   static constexpr int W = 64;
@@ -480,7 +482,7 @@ class BlockRunner {
   std::int64_t steps_ = 0, next_ = 0, sync_n0_ = 0, sync_n1_ = 0;
   int remainder_ = 0, active_ = 0, fin_count_ = 0;
   bool basin_early_stop_ = true;
-  MapperSet<S, Uniform, W> mappers_;
+  MapperSet<S, Uniform, W, Mappers> mappers_;
   LyapunovLanes<S, Method, carry, W> lyapunov_{plan_, out_};
   FormulaTracker<S, Method, carry, Uniform, Formulas, W> formulas_;
   Tile main_{}, fin_{};

@@ -34,7 +34,8 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 {measures}
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}{formulas}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform},
+                                 cs::{formulas}, cs::MapperChoice{{{anchors}, {trap}, {strobe}, {recur}}}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
@@ -43,7 +44,9 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
       fmt::arg("z", choice.carry.z), fmt::arg("mu", choice.carry.mu),
       fmt::arg("tangent", choice.carry.tangent),
       fmt::arg("uniform", choice.uniform_parameters), fmt::arg("measures", choice.measures),
-      fmt::arg("formulas", choice.measures.empty() ? "" : std::string(", cs::") + kMeasuresStruct));
+      fmt::arg("formulas", choice.measures.empty() ? "NoMeasureFormulas" : kMeasuresStruct),
+      fmt::arg("anchors", choice.mappers.anchors), fmt::arg("trap", choice.mappers.trap),
+      fmt::arg("strobe", choice.mappers.strobe), fmt::arg("recur", choice.mappers.recur));
 }
 
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

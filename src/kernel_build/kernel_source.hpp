@@ -1,5 +1,6 @@
 // The translation units of kernels built at run time: a custom scene's header (formula/) and the
-// one block-runner instantiation a run needs (method × carried state × parameter layout), with a
+// one block-runner instantiation a run needs (method × carried state × parameter layout × the
+// basin mappers it uses, engine/mappers/mapper_choice.hpp), with a
 // C entry point the program finds with dlsym. One instantiation, not all of them: the first
 // build of a new K takes seconds, not the minutes the whole matrix would. The attractor orbit
 // (for describing a basin map's attractors) is a kernel of its own, per scene and method, built
@@ -10,6 +11,7 @@
 
 #include <string>
 
+#include "engine/mappers/mapper_choice.hpp"
 #include "numerics/lane_state.hpp"
 
 namespace cs {
@@ -27,6 +29,8 @@ struct KernelChoice {
   // The run's observe and stop as a struct kMeasuresStruct (formula/measure_formulas.hpp,
   // measures_source); empty: none.
   std::string measures = {};
+  // The basin mappers the runs need (mappers_of): only those are compiled.
+  MapperChoice mappers = kEveryMapper;
 };
 
 // A built-in scene's header and struct for kernel_source: its generated header

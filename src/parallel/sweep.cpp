@@ -21,6 +21,7 @@
 #include "engine/attractor_analysis.hpp"
 #include "engine/basin_column.hpp"
 #include "engine/fixed_point_exponent.hpp"
+#include "engine/mappers/mapper_choice.hpp"
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
 #include "io/log.hpp"
@@ -267,9 +268,13 @@ SceneSource scene_source(const RunPlan& plan) {
 // is written: a failed build leaves no journal and no file. A built-in scene goes through it too
 // when the run has the lyapunov tangent or measures as formulas (observe, stop): the built-in
 // kernels are compiled without them.
-KernelFn custom_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+// Its runner holds the basin mappers the slices' plans use (one plan per step size) and no others.
+KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<RunPlan>>& slices,
+                       const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = scene_source(plan);
   KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
+  choice.mappers = mappers_of(plan);
+  for (const auto& slice : slices) choice.mappers = choice.mappers | mappers_of(*slice);
   if (has_measure_formulas(plan.spec.measures))
     choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
   const std::string source = kernel_source(scene.header, scene.struct_name, choice);
@@ -334,7 +339,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
   if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
-    const KernelFn kernel = custom_kernel(plan, options, comm);
+    const KernelFn kernel = custom_kernel(plan, slices, options, comm);
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }
   SweepSummary summary;

@@ -4,33 +4,51 @@
 // recurrences (any attractor, RunPlan::recurrence) for lanes the others have not settled. A new mapper is one more file in this folder
 // and one more member here; the block runner calls only this set (basin_mapper.hpp). An
 // adaptive method's stroboscopic map comes from its steps' dense output (look_stroboscopic).
+// The set holds only the mappers of its MapperChoice (mapper_choice.hpp): the others are
+// AbsentMapper, never active, and their code is never instantiated.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <type_traits>
 
 #include "engine/mappers/anchor_test.hpp"
 #include "engine/mappers/basin_mapper.hpp"
 #include "engine/mappers/energy_trap.hpp"
+#include "engine/mappers/mapper_choice.hpp"
 #include "engine/mappers/recurrences.hpp"
 #include "engine/mappers/stroboscopic_cycles.hpp"
 
 namespace cs {
 
-template <Scene S, bool Uniform, int W>
+// A mapper the runner is not compiled with: never active.
+struct AbsentMapper {
+  template <class... Args>
+  explicit AbsentMapper(const Args&...) {}
+  static constexpr bool active() { return false; }
+};
+
+template <bool compiled, class Mapper>
+using MapperIf = std::conditional_t<compiled, Mapper, AbsentMapper>;
+
+template <Scene S, bool Uniform, int W, MapperChoice M = kEveryMapper>
 class MapperSet {
   static constexpr int D = S::dof;
   static constexpr int N = 2 * D;
   using Params = ParamsOf<S, double>;
+  using Anchors = MapperIf<M.anchors, AnchorTest<D, W>>;
+  using Trap = MapperIf<M.trap, EnergyTrap<S, Uniform, W>>;
+  using Strobe = MapperIf<M.strobe, StroboscopicCycles<D, W>>;
+  using Recur = MapperIf<M.recur, Recurrences<D, W>>;
 
  public:
   MapperSet(const RunPlan& plan, LaneClock clock, const Params& uniform)
-      : anchors_(plan, autonomous(plan), clock),
-        trap_(plan, mapping(plan) && plan.spec.measures.basin->exact_trap, clock, uniform),
-        strobe_(plan, mapping(plan) && !autonomous(plan), map_clock(plan, clock)),
-        recur_(plan, mapping(plan) && plan.recurrence.enabled, map_clock(plan, clock)),
+      : anchors_(plan, used(plan).anchors, clock),
+        trap_(plan, used(plan).trap, clock, uniform),
+        strobe_(plan, used(plan).strobe, map_clock(plan, clock)),
+        recur_(plan, used(plan).recur, map_clock(plan, clock)),
         dense_strobe_(mapping(plan) && plan.attractors.dense_strobe) {}
 
   [[gnu::always_inline]] void clear(int slot) {
@@ -50,8 +68,12 @@ class MapperSet {
       settle_with(m, slot, n, x, c, s);
     });
     // A lane in a well the trap missed: the anchor test finds where it settles, from here.
-    if (trap_.active() && trap_.take_lost() && anchors_.active() && !anchors_.armed(slot))
-      anchors_.arm(slot, x, c, s);
+    if constexpr (M.trap) {
+      if (trap_.active() && trap_.take_lost()) {
+        if constexpr (M.anchors)
+          if (anchors_.active() && !anchors_.armed(slot)) anchors_.arm(slot, x, c, s);
+      }
+    }
   }
 
   // An adaptive lane's stroboscopic sample k, at t_start + k·period (engine/dense_samples.hpp):
@@ -70,11 +92,16 @@ class MapperSet {
   template <class Lane>
   void arm(int slot, const Lane& x, const Params& c, const Settlement<N>& s) {
     if (s.settled) return;
-    const bool trapped = trap_.active() && trap_.decides_alone(x, c);
-    if (anchors_.active() && !trapped) anchors_.arm(slot, x, c, s);
-    if (recur_.active() && !trapped) recur_.arm(slot, x, c, s);
-    if (trap_.active()) trap_.arm(slot, x, c, s);
-    if (strobe_.active()) strobe_.arm(slot, x, c, s);
+    bool trapped = false;
+    if constexpr (M.trap) trapped = trap_.active() && trap_.decides_alone(x, c);
+    if constexpr (M.anchors)
+      if (anchors_.active() && !trapped) anchors_.arm(slot, x, c, s);
+    if constexpr (M.recur)
+      if (recur_.active() && !trapped) recur_.arm(slot, x, c, s);
+    if constexpr (M.trap)
+      if (trap_.active()) trap_.arm(slot, x, c, s);
+    if constexpr (M.strobe)
+      if (strobe_.active()) strobe_.arm(slot, x, c, s);
   }
 
   [[gnu::always_inline]] void disarm(int slot) {
@@ -82,21 +109,27 @@ class MapperSet {
   }
 
   // Whether a lane flag can be raised now (else the runner's screen loop skips flag()).
-  bool flagging() const { return trap_.active() && trap_.armed_lanes() > 0; }
+  bool flagging() const {
+    if constexpr (M.trap) return trap_.active() && trap_.armed_lanes() > 0;
+    return false;
+  }
 
   // The lane flags of the mappers that screen with one (inside the runner's screen loop)…
   template <class Tile>
   [[gnu::always_inline]] LookInt flag(const Tile& t, int i) const {
     LookInt f = 0;
-    if (trap_.active()) f |= trap_.flag(t, i);
+    if constexpr (M.trap)
+      if (trap_.active()) f |= trap_.flag(t, i);
     return f;
   }
 
   // … then the screens of those that make a pass of their own.
   template <class Tile>
   void screen(const Tile& t, LookInt* attention) {
-    if (anchors_.active()) anchors_.screen(t, attention);
-    if (recur_.active()) recur_.screen(t, attention);
+    if constexpr (M.anchors)
+      if (anchors_.active()) anchors_.screen(t, attention);
+    if constexpr (M.recur)
+      if (recur_.active()) recur_.screen(t, attention);
   }
 
   [[gnu::always_inline]] void move(int from, int to) {
@@ -111,18 +144,27 @@ class MapperSet {
     return next;
   }
 
-  TrapVerdict trap_verdict(const Params& c) const { return trap_.verdict(c); }
+  // Only where the plan has the energy trap (its trap_verdict column), so it is compiled in.
+  TrapVerdict trap_verdict(const Params& c) const {
+    if constexpr (M.trap) return trap_.verdict(c);
+    return TrapVerdict::not_applicable;
+  }
 
   // The lane's record for the attractor table and why it is undecided (Recurrences::record).
   void recurrence_record(int slot, bool failed, const Settlement<N>& s, double* out,
                          UndecidedReason& why) const {
-    recur_.record(slot, failed, s, out, why);
+    if constexpr (M.recur) recur_.record(slot, failed, s, out, why);
   }
 
  private:
   static bool mapping(const RunPlan& plan) { return plan.map.basin >= 0; }
-  static bool autonomous(const RunPlan& plan) {
-    return mapping(plan) && !plan.spec.measures.basin->period.has_value();
+
+  // The plan's mappers, which this set must hold: a kernel built for another plan is a bug.
+  static MapperChoice used(const RunPlan& plan) {
+    const MapperChoice u = mappers_of(plan);
+    if (!covers(M, u))
+      throw std::logic_error("the kernel was compiled without a basin mapper this run uses");
+    return u;
   }
 
   // The clock of the mappers that sample the stroboscopic map: an adaptive lane's samples are
@@ -133,21 +175,22 @@ class MapperSet {
   }
 
   // Whether mapper m samples the stroboscopic map (when there is one).
-  template <class M>
-  static constexpr bool samples_map(const M&) {
-    return std::is_same_v<M, StroboscopicCycles<D, W>> || std::is_same_v<M, Recurrences<D, W>>;
+  template <class Mapper>
+  static constexpr bool samples_map(const Mapper&) {
+    return std::is_same_v<Mapper, StroboscopicCycles<D, W>> ||
+           std::is_same_v<Mapper, Recurrences<D, W>>;
   }
 
   // Mapper m looks at the lane at step (or sample) n, unless it has settled. A settlement
   // another mapper refuses (it knows the point is no attractor) is undone, and m stops looking.
-  template <class M, class Lane>
-  [[gnu::always_inline]] void settle_with(M& m, int slot, std::int64_t n, const Lane& x,
+  template <class Mapper, class Lane>
+  [[gnu::always_inline]] void settle_with(Mapper& m, int slot, std::int64_t n, const Lane& x,
                                           const Params& c, Settlement<N>& s) {
     if (s.settled) return;
     m.look(slot, n, x, c, s);
     // The trap settles at a well's minimum, which no mapper refuses: asking cost the double
     // well's map 2 % of its bookkeeping.
-    constexpr bool the_trap = std::is_same_v<M, EnergyTrap<S, Uniform, W>>;
+    constexpr bool the_trap = std::is_same_v<Mapper, EnergyTrap<S, Uniform, W>>;
     if (!the_trap && s.settled && refused(s, c)) {
       s = Settlement<N>{};
       m.disarm(slot);
@@ -160,26 +203,26 @@ class MapperSet {
     return refused;
   }
 
-  // The active mappers, in order.
+  // The active mappers, in order (an absent one is never called, so f is not instantiated for it).
   template <class F>
   [[gnu::always_inline]] void each(F&& f) {
-    if (anchors_.active()) f(anchors_);
-    if (trap_.active()) f(trap_);
-    if (strobe_.active()) f(strobe_);
-    if (recur_.active()) f(recur_);
+    if constexpr (M.anchors) if (anchors_.active()) f(anchors_);
+    if constexpr (M.trap) if (trap_.active()) f(trap_);
+    if constexpr (M.strobe) if (strobe_.active()) f(strobe_);
+    if constexpr (M.recur) if (recur_.active()) f(recur_);
   }
   template <class F>
   [[gnu::always_inline]] void each(F&& f) const {
-    if (anchors_.active()) f(anchors_);
-    if (trap_.active()) f(trap_);
-    if (strobe_.active()) f(strobe_);
-    if (recur_.active()) f(recur_);
+    if constexpr (M.anchors) if (anchors_.active()) f(anchors_);
+    if constexpr (M.trap) if (trap_.active()) f(trap_);
+    if constexpr (M.strobe) if (strobe_.active()) f(strobe_);
+    if constexpr (M.recur) if (recur_.active()) f(recur_);
   }
 
-  AnchorTest<D, W> anchors_;
-  EnergyTrap<S, Uniform, W> trap_;
-  StroboscopicCycles<D, W> strobe_;
-  Recurrences<D, W> recur_;
+  Anchors anchors_;
+  Trap trap_;
+  Strobe strobe_;
+  Recur recur_;
   bool dense_strobe_;
 };
 

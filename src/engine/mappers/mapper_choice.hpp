@@ -1,0 +1,42 @@
+// Which basin mappers a runner is compiled with. The mappers a run uses follow from its plan
+// alone (mappers_of); a kernel built at run time is compiled with those and no others, so a run
+// without a basin map compiles none: the energy trap's wells, the anchor test, the stroboscopic
+// cycles and the recurrences were most of a new K's compile (2.3 s of a one-trajectory kernel's
+// 2.3 s against 1.0 s without them, docs/performance.md). A mapper left out is one the plan
+// never activates, so the results are the same bits either way; the built-in kernels are
+// compiled with every mapper (kEveryMapper) and serve every plan.
+#pragma once
+
+#include "engine/run_plan.hpp"
+
+namespace cs {
+
+struct MapperChoice {
+  bool anchors = true;  // the anchor test: an autonomous scene's map
+  bool trap = true;     // the energy trap (measures.basin.exact_trap)
+  bool strobe = true;   // the stroboscopic cycles: a map with measures.basin.period
+  bool recur = true;    // the recurrences (RunPlan::recurrence)
+};
+
+inline constexpr MapperChoice kEveryMapper{};
+
+// The mappers the plan activates (MapperSet's constructor reads this): none without a basin map.
+// The energy trap may still find no well to trap at run time; it is compiled all the same.
+inline MapperChoice mappers_of(const RunPlan& plan) {
+  if (plan.map.basin < 0) return {false, false, false, false};
+  const auto& basin = *plan.spec.measures.basin;
+  const bool autonomous = !basin.period.has_value();
+  return {autonomous, basin.exact_trap, !autonomous, plan.recurrence.enabled};
+}
+
+// Whether a runner compiled with `compiled` serves a plan that uses `used`.
+constexpr bool covers(MapperChoice compiled, MapperChoice used) {
+  return (compiled.anchors || !used.anchors) && (compiled.trap || !used.trap) &&
+         (compiled.strobe || !used.strobe) && (compiled.recur || !used.recur);
+}
+
+constexpr MapperChoice operator|(MapperChoice a, MapperChoice b) {
+  return {a.anchors || b.anchors, a.trap || b.trap, a.strobe || b.strobe, a.recur || b.recur};
+}
+
+}  // namespace cs

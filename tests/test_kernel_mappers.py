@@ -1,0 +1,136 @@
+#!/usr/bin/python3
+"""A kernel built at run time holds the basin mappers its run uses and no others
+(engine/mappers/mapper_choice.hpp; docs/performance.md, "only the mappers a run uses").
+
+    test_kernel_mappers.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
+
+* The double well as K without a basin map: its kernel's symbol table names none of the
+  mappers' code (the energy trap and its wells, the recurrences, the stroboscopic cycles).
+* The same K with a basin map to t_end (no early stop): the energy trap is compiled in; its
+  final states are the same bits as the run without the map, which had no mapper at all, and
+  as the same map in 2 x 1 ranks x threads.
+* A forced K on its stroboscopic map without the energy trap or recurrences: the stroboscopic
+  cycles alone.
+* The built-in double well with lyapunov and no basin map (a kernel built at run time): no
+  mapper either, and its final states are the built-in kernel's (every mapper, none active).
+"""
+import os
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from contactsweep_runs import Runs  # noqa: E402
+
+binary, mpiexec, compare, work = sys.argv[1:5]
+runs = Runs(binary, mpiexec, work, compare=compare)
+check = runs.check
+
+MAPPERS = ("EnergyTrap<", "WellFinder<", "Recurrences<", "StroboscopicCycles<")
+
+
+def mappers_in(cache):
+    """The mappers named in the symbol table of each kernel the cache holds."""
+    found = {}
+    for name in sorted(os.listdir(cache)):
+        if name.startswith("kernel-") and name.endswith(".so"):
+            symbols = subprocess.run(["nm", "-C", os.path.join(cache, name)], capture_output=True,
+                                     text=True, check=True).stdout
+            found[name] = {m for m in MAPPERS if m in symbols}
+    return found
+
+
+def run_in_fresh_cache(spec_text, name, ranks=0, threads=1):
+    """The run's output and the mappers in the kernels of a cache of its own (0700)."""
+    cache = tempfile.mkdtemp(prefix=name + "_cache.", dir=work)
+    out, _ = runs.launch(spec_text, name, ranks=ranks, threads=threads,
+                         env_extra={"CONTACTSWEEP_CACHE": cache})
+    return out, mappers_in(cache)
+
+
+def final_state(path):
+    with h5py.File(path, "r") as f:
+        return {k: f[k][...] for k in f if k.startswith("final_")}
+
+
+def same_final_state(name, a, b):
+    sa, sb = final_state(a), final_state(b)
+    same = sa.keys() == sb.keys() and bool(sa) and all(
+        np.array_equal(sa[k], sb[k], equal_nan=True) for k in sa)
+    check(name, same, f"{sorted(sa)} vs {sorted(sb)}")
+
+
+WELL = """[scene]
+K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"
+a = 1.0
+gamma = 0.25
+[initial]
+z = 1.0
+lambda = 1.0
+[integrator]
+method = "hybrid_leapfrog"
+h = 0.01
+t_end = 40.0
+[grid]
+q_0 = { from = -2.5, to = 2.5, n = 12 }
+p_0 = { from = -2.0, to = 2.0, n = 10 }
+[measures]
+final_state = true
+"""
+
+plain, found = run_in_fresh_cache(WELL + "trajectory = { every = 100 }\n", "well_k_plain")
+check("K without a basin map: one kernel, no mapper compiled in",
+      len(found) == 1 and found[next(iter(found))] == set(), f"{found}")
+
+mapped, found = run_in_fresh_cache(WELL + "basin = { early_stop = false }\n", "well_k_map")
+runner = [m for m in found.values() if "EnergyTrap<" in m]
+check("K's basin map: its runner's kernel has the energy trap and its wells",
+      len(runner) == 1 and {"EnergyTrap<", "WellFinder<"} <= runner[0], f"{found}")
+if plain and mapped:
+    same_final_state("K's final states: the same bits with the basin map's mappers and without",
+                     plain, mapped)
+    with h5py.File(mapped, "r") as f:
+        labels = set(np.unique(f["basin"][...]).tolist())
+    check("K's basin map labels its two wells", labels <= {0, 1, 2} and {1, 2} <= labels,
+          f"{labels}")
+    spread, _ = runs.launch(WELL + "basin = { early_stop = false }\n", "well_k_map_2x1", ranks=2)
+    if spread:
+        runs.same_bits("K's basin map: 2 x 1 ranks x threads has the bits of 1 x 1", mapped,
+                       spread, count=2)
+
+FORCED = """[scene]
+K = "p^2/2 - q^2/2 + q^4/4 - F*q*cos(Omega*t) - delta*z"
+delta = 0.3
+F = 0.2
+Omega = 1.2
+[initial]
+z = 0.0
+lambda = 1.0
+[integrator]
+method = "rk4"
+h = 0.02617993877991494
+t_end = 104.71975511965977
+[grid]
+q_0 = { from = -1.5, to = 1.5, n = 6 }
+p_0 = { from = -1.0, to = 1.0, n = 4 }
+[measures]
+basin = { period = 5.235987755982989, exact_trap = false, recurrence = false }
+"""
+_, found = run_in_fresh_cache(FORCED, "forced_k_strobe")
+runner = [m for m in found.values() if m]
+check("forced K on its stroboscopic map: the stroboscopic cycles alone",
+      runner == [{"StroboscopicCycles<"}], f"{found}")
+
+BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"', 'name = "double_well"')
+builtin, _ = runs.launch(BUILTIN, "well_builtin")
+tangent, found = run_in_fresh_cache(BUILTIN + "lyapunov = {}\n", "well_builtin_lyapunov")
+check("built-in double well with lyapunov: its kernel has no mapper",
+      len(found) == 1 and found[next(iter(found))] == set(), f"{found}")
+if builtin and tangent:
+    same_final_state("built-in double well: the same final states with lyapunov's kernel",
+                     builtin, tangent)
+
+runs.finish()
