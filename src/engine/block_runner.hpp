@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 
 #include "engine/dense_samples.hpp"
 #include "engine/lane_health.hpp"
@@ -40,8 +41,11 @@ namespace cs {
 // `Formulas`: the run's observe and stop (engine/measures/observables.hpp), generated into the
 // run-time kernel; none in the built-in kernels. `Mappers`: the basin mappers compiled in
 // (mappers/mapper_choice.hpp); a run-time kernel has only its plan's, the built-in ones all.
+// `DenseOutput`: whether an adaptive method's steps can build their continuous extension for
+// samples inside them (samples_inside_steps; without formulas or the tangent, which have their
+// own), false in a run-time kernel whose plan takes none: a quarter of dop853's kernel.
 template <Scene S, class Method, Carry carry, bool Uniform, class Formulas = NoMeasureFormulas,
-          MapperChoice Mappers = kEveryMapper>
+          MapperChoice Mappers = kEveryMapper, bool DenseOutput = true>
 class BlockRunner {
   static constexpr bool kFormulas = kHasFormulas<Formulas>;
   static constexpr int W = 64;
@@ -72,6 +76,8 @@ class BlockRunner {
                                              plan.spec.t_end - plan.spec.t_start};
       main_.ad.control = fin_.ad.control = control;
       main_.ad.sampling = fin_.ad.sampling = dense_samples_.any() || lyapunov_.marks_in_steps();
+      if (!DenseOutput && dense_samples_.any())
+        throw std::logic_error("the kernel was compiled without the dense output this run samples");
     }
     remainder_ = static_cast<int>(steps_ % plan.chunk);
     const auto& m = plan.spec.measures;
@@ -212,9 +218,11 @@ class BlockRunner {
         auto stops = [&](int i) { return formulas_.stops_now(t, i); };
         advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
                                                     on_dense, stops);
-      } else {
+      } else if constexpr (DenseOutput) {
         advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {},
                                                     on_dense);
+      } else {  // no sample inside a step (checked at construction): the steps alone
+        advance_adaptive<S, Method, carry, Uniform>(t, steps, uniform_params_, [](int) {});
       }
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
@@ -454,7 +462,8 @@ class BlockRunner {
     if constexpr (carry.tangent) lyapunov_.finish(lane_slot, marked, status, x.t);
     writer_.finish(*book, x, c, status, verdict);
     if constexpr (kFormulas) formulas_.finish(lane_slot, *book, x, c, status, stopped, exit);
-    if (plan_.map.basin_cells >= 0) {
+    if constexpr (Mappers.recur) {  // the recurrences' columns (none without them)
+      if (plan_.map.basin_cells < 0) return;
       double record[RecurrenceSearch::kRecordWidth];
       UndecidedReason why = UndecidedReason::not_tracked;
       mappers_.recurrence_record(lane_slot, status != LaneStatus::ok, b.basin, record, why);

@@ -16,9 +16,10 @@ namespace cs {
 // A lane whose stop's condition holds at the step's end stops where it first held: its
 // samples up to there, then it is held (no more attempts: its time set to t_end) until the
 // runner looks at it (stop_lane).
-template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers>
+template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
+          bool DenseOutput>
 template <class Dense>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers>::dense_step(Tile& t, int i,
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::dense_step(Tile& t, int i,
                                                                 const Dense& dense) {
   Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
   const bool settled = b.basin.settled;
@@ -49,8 +50,9 @@ void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers>::dense_step(Tile&
 
 // Lane i of tile t (in `lane_slot`), flagged in its last advance of `steps` steps from b.n:
 // stepped again to the stop, and finished there.
-template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers>::stop_lane(int lane_slot, const Tile& t,
+template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
+          bool DenseOutput>
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::stop_lane(int lane_slot, const Tile& t,
                                                                int i, Book& b, int steps) {
   const Params c = t.params(i);
   const Coef k = t.coef(i);
@@ -83,8 +85,9 @@ void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers>::stop_lane(int la
 // A healthy lane that stopped at step b.n in state x: its sample there, if one is due, and
 // its exit as the basin's outcome — unless it settled first (with basin.early_stop = false it
 // ran on after settling): a lane's outcome is the first decided.
-template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers>::finish_stopped(int lane_slot, Book& b,
+template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
+          bool DenseOutput>
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::finish_stopped(int lane_slot, Book& b,
                                                                     const LaneState<D>& x,
                                                                     const Params& c) {
   // An adaptive lane took its samples up to the stop from its step (dense_step); its time is

@@ -114,6 +114,12 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
                                                        const MethodInfo& method,
                                                        std::vector<std::unique_ptr<RunSpec>>& specs);
 
+// Whether an adaptive method's lanes take samples inside their steps (a trajectory, sync, a
+// stroboscopic map, an observe window without trajectory): they need the steps' continuous
+// extension (engine/dense_samples.hpp). A kernel built at run time for a plan without them
+// compiles no dense output (BlockRunner's DenseOutput).
+bool samples_inside_steps(const RunPlan& plan);
+
 // Integrates the points of `results.range` and fills `results`. Thread-safe for distinct blocks.
 // (engine/kernel_dispatch.cpp)
 void run_block(const RunPlan& plan, BlockResults& results);

@@ -35,7 +35,8 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
   using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform},
-                                 cs::{formulas}, cs::MapperChoice{{{anchors}, {trap}, {strobe}, {recur}}}>;
+                                 cs::{formulas}, cs::MapperChoice{{{anchors}, {trap}, {strobe}, {recur}}},
+                                 {dense}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",
@@ -46,7 +47,8 @@ extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
       fmt::arg("uniform", choice.uniform_parameters), fmt::arg("measures", choice.measures),
       fmt::arg("formulas", choice.measures.empty() ? "NoMeasureFormulas" : kMeasuresStruct),
       fmt::arg("anchors", choice.mappers.anchors), fmt::arg("trap", choice.mappers.trap),
-      fmt::arg("strobe", choice.mappers.strobe), fmt::arg("recur", choice.mappers.recur));
+      fmt::arg("strobe", choice.mappers.strobe), fmt::arg("recur", choice.mappers.recur),
+      fmt::arg("dense", choice.dense_output));
 }
 
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

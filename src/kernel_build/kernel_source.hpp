@@ -1,6 +1,7 @@
 // The translation units of kernels built at run time: a custom scene's header (formula/) and the
 // one block-runner instantiation a run needs (method × carried state × parameter layout × the
-// basin mappers it uses, engine/mappers/mapper_choice.hpp), with a
+// basin mappers it uses, engine/mappers/mapper_choice.hpp × an adaptive method's dense output
+// where it samples inside steps), with a
 // C entry point the program finds with dlsym. One instantiation, not all of them: the first
 // build of a new K takes seconds, not the minutes the whole matrix would. The attractor orbit
 // (for describing a basin map's attractors) is a kernel of its own, per scene and method, built
@@ -31,6 +32,9 @@ struct KernelChoice {
   std::string measures = {};
   // The basin mappers the runs need (mappers_of): only those are compiled.
   MapperChoice mappers = kEveryMapper;
+  // An adaptive method's dense output for samples inside steps (samples_inside_steps); true for
+  // a fixed-step method, which has none to leave out (one kernel for its runs either way).
+  bool dense_output = true;
 };
 
 // A built-in scene's header and struct for kernel_source: its generated header

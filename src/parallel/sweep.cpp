@@ -274,7 +274,11 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
   const SceneSource scene = scene_source(plan);
   KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
   choice.mappers = mappers_of(plan);
-  for (const auto& slice : slices) choice.mappers = choice.mappers | mappers_of(*slice);
+  choice.dense_output = !plan.method.adaptive || samples_inside_steps(plan);
+  for (const auto& slice : slices) {
+    choice.mappers = choice.mappers | mappers_of(*slice);
+    choice.dense_output = choice.dense_output || samples_inside_steps(*slice);
+  }
   if (has_measure_formulas(plan.spec.measures))
     choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
   const std::string source = kernel_source(scene.header, scene.struct_name, choice);

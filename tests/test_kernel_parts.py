@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """A kernel built at run time holds the basin mappers its run uses and no others
-(engine/mappers/mapper_choice.hpp; docs/performance.md, "only the mappers a run uses").
+(engine/mappers/mapper_choice.hpp), and an adaptive method's dense output only where its run
+samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what a run uses").
 
-    test_kernel_mappers.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
+    test_kernel_parts.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
 
 * The double well as K without a basin map: its kernel's symbol table names none of the
   mappers' code (the energy trap and its wells, the recurrences, the stroboscopic cycles).
@@ -13,6 +14,8 @@
   cycles alone.
 * The built-in double well with lyapunov and no basin map (a kernel built at run time): no
   mapper either, and its final states are the built-in kernel's (every mapper, none active).
+* The double well as K with dop853 and final states alone: no dense output compiled in; with
+  a trajectory it is, and the final states are the same bits (samples never change the steps).
 """
 import os
 import subprocess
@@ -30,25 +33,26 @@ runs = Runs(binary, mpiexec, work, compare=compare)
 check = runs.check
 
 MAPPERS = ("EnergyTrap<", "WellFinder<", "Recurrences<", "StroboscopicCycles<")
+DENSE = "Dop853Dense<"  # dop853's continuous extension (numerics/dop853_dense.hpp)
 
 
-def mappers_in(cache):
-    """The mappers named in the symbol table of each kernel the cache holds."""
+def parts_in(cache, parts=MAPPERS):
+    """The parts named in the symbol table of each kernel the cache holds."""
     found = {}
     for name in sorted(os.listdir(cache)):
         if name.startswith("kernel-") and name.endswith(".so"):
             symbols = subprocess.run(["nm", "-C", os.path.join(cache, name)], capture_output=True,
                                      text=True, check=True).stdout
-            found[name] = {m for m in MAPPERS if m in symbols}
+            found[name] = {m for m in parts if m in symbols}
     return found
 
 
-def run_in_fresh_cache(spec_text, name, ranks=0, threads=1):
-    """The run's output and the mappers in the kernels of a cache of its own (0700)."""
+def run_in_fresh_cache(spec_text, name, ranks=0, threads=1, parts=MAPPERS):
+    """The run's output and the parts in the kernels of a cache of its own (0700)."""
     cache = tempfile.mkdtemp(prefix=name + "_cache.", dir=work)
     out, _ = runs.launch(spec_text, name, ranks=ranks, threads=threads,
                          env_extra={"CONTACTSWEEP_CACHE": cache})
-    return out, mappers_in(cache)
+    return out, parts_in(cache, parts)
 
 
 def final_state(path):
@@ -132,5 +136,17 @@ check("built-in double well with lyapunov: its kernel has no mapper",
 if builtin and tangent:
     same_final_state("built-in double well: the same final states with lyapunov's kernel",
                      builtin, tangent)
+
+DOP853 = WELL.replace('method = "hybrid_leapfrog"', 'method = "dop853"\nrtol = 1e-9')
+final_only, found = run_in_fresh_cache(DOP853, "well_k_dop853", parts=MAPPERS + (DENSE,))
+check("K with dop853, final states alone: no dense output and no mapper compiled in",
+      len(found) == 1 and found[next(iter(found))] == set(), f"{found}")
+sampled, found = run_in_fresh_cache(DOP853 + "trajectory = { every = 100 }\n", "well_k_dop853_traj",
+                                    parts=MAPPERS + (DENSE,))
+check("K with dop853 and a trajectory: the dense output compiled in, no mapper",
+      len(found) == 1 and found[next(iter(found))] == {DENSE}, f"{found}")
+if final_only and sampled:
+    same_final_state("K with dop853: the same final states with the dense output and without",
+                     final_only, sampled)
 
 runs.finish()
