@@ -3,6 +3,7 @@
 // alone, and an adaptive method's dense output where its plan samples inside steps
 // (samples_inside_steps). A runner compiled without a part its plan uses refuses the plan
 // instead of running it wrongly; one without parts its plan does not use gives the same bits.
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <stdexcept>
@@ -17,6 +18,7 @@
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
 #include "numerics/methods/dop853.hpp"
+#include "numerics/methods/hybrid_leapfrog.hpp"
 #include "physics/double_well.hpp"
 #include "physics/scene_catalog.hpp"
 
@@ -89,10 +91,11 @@ TEST(MapperChoice, SetWithoutThePlansMappersRefusesIt) {
   EXPECT_FALSE(set.flagging());
 }
 
-RunSpec well_spec(const std::string& measures) {
-  return parse_run_spec("[scene]\nname = \"double_well\"\n[integrator]\nmethod = \"dop853\"\n"
-                        "rtol = 1e-9\nt_end = 20.0\n"
-                        "[grid]\nq_0 = { from = -2.0, to = 2.0, n = 6 }\n[measures]\n" + measures,
+RunSpec well_spec(const std::string& measures, const std::string& method = "dop853") {
+  return parse_run_spec("[scene]\nname = \"double_well\"\ngamma = 0.5\n[integrator]\nmethod = \"" + method +
+                            "\"\n" + (method == "dop853" ? "rtol = 1e-9\n" : "") +
+                            "t_end = 60.0\n[grid]\nq_0 = { from = -2.0, to = 2.0, n = 6 }\n"
+                            "p_0 = { from = -1.5, to = 1.5, n = 4 }\n[measures]\n" + measures,
                         {}, "test spec");
 }
 
@@ -107,17 +110,24 @@ TEST(DenseOutput, SamplesInsideStepsFollowTheMeasures) {
   EXPECT_TRUE(inside("basin = { period = 5.0 }\n"));  // the stroboscopic map's samples
 }
 
-// The runner of the built-in kernels (every mapper, the dense output) and the leanest one give
-// the same final states bit for bit on a run that samples nothing inside steps; the lean one
-// refuses a run with a trajectory.
-TEST(DenseOutput, LeanRunnerHasTheBitsOfTheFullOne) {
-  constexpr Carry carry{true, true, false};
-  using Full = BlockRunner<DoubleWell, Dop853, carry, true>;
-  using Lean = BlockRunner<DoubleWell, Dop853, carry, true, NoMeasureFormulas,
-                           MapperChoice{false, false, false, false}, false>;
-  const RunSpec spec = well_spec("final_state = true\n");
+// Every column of a block, bit for bit, from the runner of the built-in kernels (every mapper,
+// the dense output) and from `Lean`, compiled with exactly what the plan uses (as a kernel built
+// at run time is): final states, basin labels, settlement records, settle times, trap verdicts,
+// recurrence records and reasons.
+template <class Method, Carry carry, MapperChoice used, bool dense>
+void expect_lean_has_the_bits_of_full(const std::string& measures, const std::string& method) {
+  using Full = BlockRunner<DoubleWell, Method, carry, true>;
+  using Lean = BlockRunner<DoubleWell, Method, carry, true, NoMeasureFormulas, used, dense>;
+  const RunSpec spec = well_spec(measures, method);
   const RunPlan plan(spec, *find_scene(spec.scene), *find_method(spec.method));
-  ASSERT_TRUE(plan.carry.z && plan.carry.mu && !plan.carry.tangent);
+  ASSERT_EQ(plan.carry.z, carry.z) << measures;
+  ASSERT_EQ(plan.carry.mu, carry.mu) << measures;
+  const MapperChoice u = mappers_of(plan);
+  ASSERT_TRUE(u.anchors == used.anchors && u.trap == used.trap && u.strobe == used.strobe &&
+              u.recur == used.recur) << measures;
+  if constexpr (adaptive_method<Method>()) {
+    ASSERT_EQ(samples_inside_steps(plan), dense) << measures;
+  }
   BlockResults full({0, plan.grid.size()}, plan.columns), lean({0, plan.grid.size()}, plan.columns);
   Full(plan, full).run();
   Lean(plan, lean).run();
@@ -127,12 +137,44 @@ TEST(DenseOutput, LeanRunnerHasTheBitsOfTheFullOne) {
     for (std::size_t i = 0; i < full.columns[k].size(); ++i)
       EXPECT_EQ(std::bit_cast<std::uint64_t>(full.columns[k][i]),
                 std::bit_cast<std::uint64_t>(lean.columns[k][i]))
-          << plan.columns[k].dataset.name << "[" << i << "]";
+          << measures << ": " << plan.columns[k].dataset.name << "[" << i << "]";
   }
+  if (plan.map.basin >= 0) {  // lanes settled, so the mappers had work to do
+    const auto& basin = full.columns[static_cast<std::size_t>(plan.map.basin)];
+    EXPECT_GT(std::count_if(basin.begin(), basin.end(), [](double v) { return v != 0.0; }), 0)
+        << measures;
+  }
+}
+
+// The leanest dop853 runner (no mapper, no dense output) on final states alone; it refuses a
+// plan with a trajectory, which samples inside steps.
+TEST(DenseOutput, LeanRunnerHasTheBitsOfTheFullOne) {
+  constexpr MapperChoice none{false, false, false, false};
+  expect_lean_has_the_bits_of_full<Dop853, Carry{true, true, false}, none, false>(
+      "final_state = true\n", "dop853");
+  using Lean = BlockRunner<DoubleWell, Dop853, Carry{true, true, false}, true, NoMeasureFormulas,
+                           none, false>;
   const RunSpec sampled = well_spec("final_state = true\ntrajectory = { every = 10 }\n");
   const RunPlan sampled_plan(sampled, *find_scene(sampled.scene), *find_method(sampled.method));
   BlockResults out({0, sampled_plan.grid.size()}, sampled_plan.columns);
   EXPECT_THROW(Lean(sampled_plan, out), std::logic_error);
+}
+
+// Basin maps: each runner compiled with its plan's mappers alone maps as the full one does.
+TEST(MapperChoice, LeanRunnersMapAsTheFullOne) {
+  constexpr Carry qp{false, false, false};
+  expect_lean_has_the_bits_of_full<HybridLeapfrog, qp, MapperChoice{true, true, false, false},
+                                   true>("basin = { early_stop = false }\n", "hybrid_leapfrog");
+  expect_lean_has_the_bits_of_full<HybridLeapfrog, qp, MapperChoice{true, false, false, false},
+                                   true>("basin = { exact_trap = false }\n", "hybrid_leapfrog");
+  expect_lean_has_the_bits_of_full<HybridLeapfrog, qp, MapperChoice{false, true, true, false},
+                                   true>("basin = { period = 5.0 }\n", "hybrid_leapfrog");
+  expect_lean_has_the_bits_of_full<HybridLeapfrog, qp, MapperChoice{true, true, false, true},
+                                   true>("basin = { recurrence = true }\n", "hybrid_leapfrog");
+  // An adaptive method carries z and ln λ always (RunPlan).
+  expect_lean_has_the_bits_of_full<Dop853, Carry{true, true, false},
+                                   MapperChoice{true, true, false, false}, false>("basin = {}\n",
+                                                                                 "dop853");
 }
 
 }  // namespace

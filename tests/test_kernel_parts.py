@@ -6,7 +6,9 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
     test_kernel_parts.py CONTACTSWEEP MPIEXEC COMPARE_OUTPUTS WORKDIR
 
 * The double well as K without a basin map: its kernel's symbol table names none of the
-  mappers' code (the energy trap and its wells, the recurrences, the stroboscopic cycles).
+  mappers' code (the energy trap and its wells, the recurrences, the stroboscopic cycles; the
+  anchor test is inlined whole, so it leaves no name to look for). The basin columns of a runner
+  with only its plan's mappers against one with all: test_kernel_parts.cpp.
 * The same K with a basin map to t_end (no early stop): the energy trap is compiled in; its
   final states are the same bits as the run without the map, which had no mapper at all, and
   as the same map in 2 x 1 ranks x threads.

@@ -46,8 +46,9 @@ check "the prelude's text was not read (the .gch stands for it)" \
 # (engine/engine_export.hpp): the kernel calls it there, and the program exports that and no
 # more of the engine.
 kernel=""  # the runner's (a basin map may add the attractors' orbit kernel)
-for k in cache/kernel-*.so; do
-  nm -D --defined-only "$k" 2>/dev/null | grep -q " contactsweep_run_block$" && kernel=$k
+for k in cache/kernel-*.so; do  # to a file, not a pipe: grep -q under pipefail
+  nm -D --defined-only "$k" >entries.txt 2>/dev/null
+  grep -q " contactsweep_run_block$" entries.txt && kernel=$k
 done
 [[ -n $kernel ]] && nm -D --undefined-only "$kernel" >kernel_needs.txt
 nm -D --defined-only "$bin" >program_exports.txt  # files, not pipes: grep -q under pipefail

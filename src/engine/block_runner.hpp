@@ -42,8 +42,9 @@ namespace cs {
 // run-time kernel; none in the built-in kernels. `Mappers`: the basin mappers compiled in
 // (mappers/mapper_choice.hpp); a run-time kernel has only its plan's, the built-in ones all.
 // `DenseOutput`: whether an adaptive method's steps can build their continuous extension for
-// samples inside them (samples_inside_steps; without formulas or the tangent, which have their
-// own), false in a run-time kernel whose plan takes none: a quarter of dop853's kernel.
+// samples inside them (samples_inside_steps), false in a run-time kernel whose plan takes none:
+// a quarter of dop853's kernel. The advances with the tangent (lyapunov) or the stop build it
+// whatever this says; the others (observe formulas included) only with it.
 template <Scene S, class Method, Carry carry, bool Uniform, class Formulas = NoMeasureFormulas,
           MapperChoice Mappers = kEveryMapper, bool DenseOutput = true>
 class BlockRunner {

@@ -19,8 +19,8 @@ namespace cs {
 template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
           bool DenseOutput>
 template <class Dense>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::dense_step(Tile& t, int i,
-                                                                const Dense& dense) {
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::dense_step(
+    Tile& t, int i, const Dense& dense) {
   Book& b = (&t == &main_ ? main_book_ : fin_book_)[i];
   const bool settled = b.basin.settled;
   LaneState<D> end = t.lane(i);
@@ -52,8 +52,8 @@ void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::den
 // stepped again to the stop, and finished there.
 template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
           bool DenseOutput>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::stop_lane(int lane_slot, const Tile& t,
-                                                               int i, Book& b, int steps) {
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::stop_lane(
+    int lane_slot, const Tile& t, int i, Book& b, int steps) {
   const Params c = t.params(i);
   const Coef k = t.coef(i);
   LaneState<D> x;
@@ -87,9 +87,8 @@ void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::sto
 // ran on after settling): a lane's outcome is the first decided.
 template <Scene S, class Method, Carry carry, bool Uniform, class Formulas, MapperChoice Mappers,
           bool DenseOutput>
-void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::finish_stopped(int lane_slot, Book& b,
-                                                                    const LaneState<D>& x,
-                                                                    const Params& c) {
+void BlockRunner<S, Method, carry, Uniform, Formulas, Mappers, DenseOutput>::finish_stopped(
+    int lane_slot, Book& b, const LaneState<D>& x, const Params& c) {
   // An adaptive lane took its samples up to the stop from its step (dense_step); its time is
   // its own.
   const double time = kAdaptive ? x.t : clock_.at(b.n);

@@ -34,9 +34,9 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 {measures}
 extern "C" [[gnu::visibility("default")]] void {entry}(const cs::RunPlan& plan,
                                                         cs::BlockResults& results) {{
-  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method}, cs::Carry{{{z}, {mu}, {tangent}}}, {uniform},
-                                 cs::{formulas}, cs::MapperChoice{{{anchors}, {trap}, {strobe}, {recur}}},
-                                 {dense}>;
+  using Runner = cs::BlockRunner<cs::{scene_struct}, cs::{method},
+      cs::Carry{{{z}, {mu}, {tangent}}}, {uniform}, cs::{formulas},
+      cs::MapperChoice{{{anchors}, {trap}, {strobe}, {recur}}}, {dense}>;
   std::make_unique<Runner>(plan, results)->run();
 }}
 )",

@@ -1,8 +1,7 @@
 // The translation units of kernels built at run time: a custom scene's header (formula/) and the
 // one block-runner instantiation a run needs (method × carried state × parameter layout × the
 // basin mappers it uses, engine/mappers/mapper_choice.hpp × an adaptive method's dense output
-// where it samples inside steps), with a
-// C entry point the program finds with dlsym. One instantiation, not all of them: the first
+// where it samples inside steps), with a C entry point the program finds with dlsym. One instantiation, not all of them: the first
 // build of a new K takes seconds, not the minutes the whole matrix would. The attractor orbit
 // (for describing a basin map's attractors) is a kernel of its own, per scene and method, built
 // only when a map's table needs it: in the runner's kernel it cost every run of a new K 10-20 %

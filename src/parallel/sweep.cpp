@@ -274,7 +274,10 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
   const SceneSource scene = scene_source(plan);
   KernelChoice choice{plan.spec.method, plan.carry, plan.grid.uniform_parameters()};
   choice.mappers = mappers_of(plan);
-  choice.dense_output = !plan.method.adaptive || samples_inside_steps(plan);
+  // The tangent's and the stop's advances always build the extension (BlockRunner): their
+  // kernels say true whatever they sample, so they are one kernel either way.
+  choice.dense_output = !plan.method.adaptive || plan.carry.tangent ||
+                        plan.spec.measures.stop.has_value() || samples_inside_steps(plan);
   for (const auto& slice : slices) {
     choice.mappers = choice.mappers | mappers_of(*slice);
     choice.dense_output = choice.dense_output || samples_inside_steps(*slice);

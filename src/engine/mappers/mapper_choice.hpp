@@ -1,9 +1,9 @@
 // Which basin mappers a runner is compiled with. The mappers a run uses follow from its plan
 // alone (mappers_of); a kernel built at run time is compiled with those and no others, so a run
 // without a basin map compiles none: the energy trap's wells, the anchor test, the stroboscopic
-// cycles and the recurrences were most of a new K's compile (2.3 s of a one-trajectory kernel's
-// 2.3 s against 1.0 s without them, docs/performance.md). A mapper left out is one the plan
-// never activates, so the results are the same bits either way; the built-in kernels are
+// cycles and the recurrences were most of a new K's compile (a one-point K kernel: 2.1–2.3 s of
+// compiler CPU with them, 0.8–1.1 s without; docs/performance.md). A mapper left out is one the
+// plan never activates, so the results are the same bits either way; the built-in kernels are
 // compiled with every mapper (kEveryMapper) and serve every plan.
 #pragma once
 
