@@ -12,8 +12,8 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
 * The same K with a basin map to t_end (no early stop): the energy trap is compiled in; its
   final states are the same bits as the run without the map, which had no mapper at all, and
   as the same map in 2 x 1 ranks x threads.
-* A forced K on its stroboscopic map without the energy trap or recurrences: the stroboscopic
-  cycles alone.
+* A forced K on its stroboscopic map without recurrences: the stroboscopic cycles alone (the
+  energy trap is asked for, exact_trap's default, but a K that reads t has none to compile).
 * The built-in double well with lyapunov and no basin map (a kernel built at run time): no
   mapper either, and its final states are the built-in kernel's (every mapper, none active).
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
@@ -123,11 +123,12 @@ t_end = 104.71975511965977
 q_0 = { from = -1.5, to = 1.5, n = 6 }
 p_0 = { from = -1.0, to = 1.0, n = 4 }
 [measures]
-basin = { period = 5.235987755982989, exact_trap = false, recurrence = false }
+basin = { period = 5.235987755982989, recurrence = false }
 """
 _, found = run_in_fresh_cache(FORCED, "forced_k_strobe")
 runner = [m for m in found.values() if m]
-check("forced K on its stroboscopic map: the stroboscopic cycles alone",
+check("forced K on its stroboscopic map (no energy trap: K reads t; recurrences off): the "
+      "stroboscopic cycles alone",
       runner == [{"StroboscopicCycles<"}], f"{found}")
 
 BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"', 'name = "double_well"')

@@ -21,7 +21,8 @@ struct MapperChoice {
 inline constexpr MapperChoice kEveryMapper{};
 
 // The mappers the plan activates (MapperSet's constructor reads this): none without a basin map.
-// The energy trap may still find no well to trap at run time; it is compiled all the same.
+// The energy trap activates only where K has one (has_energy_trap), which MapperSet knows from
+// the scene's type: it compiles the trap only there, whatever this says.
 inline MapperChoice mappers_of(const RunPlan& plan) {
   if (plan.map.basin < 0) return {false, false, false, false};
   const auto& basin = *plan.spec.measures.basin;

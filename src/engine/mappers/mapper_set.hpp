@@ -39,7 +39,10 @@ class MapperSet {
   static constexpr int N = 2 * D;
   using Params = ParamsOf<S, double>;
   using Anchors = MapperIf<M.anchors, AnchorTest<D, W>>;
-  using Trap = MapperIf<M.trap, EnergyTrap<S, Uniform, W>>;
+  // The energy trap only where K has one (has_energy_trap: K = Σp²/2 + V(q) + k·z, no t); for
+  // any other K it never activates, so a forced or z² scene compiles none of its wells.
+  static constexpr bool kTrap = M.trap && has_energy_trap<S>();
+  using Trap = MapperIf<kTrap, EnergyTrap<S, Uniform, W>>;
   using Strobe = MapperIf<M.strobe, StroboscopicCycles<D, W>>;
   using Recur = MapperIf<M.recur, Recurrences<D, W>>;
 
@@ -68,7 +71,7 @@ class MapperSet {
       settle_with(m, slot, n, x, c, s);
     });
     // A lane in a well the trap missed: the anchor test finds where it settles, from here.
-    if constexpr (M.trap) {
+    if constexpr (kTrap) {
       if (trap_.active() && trap_.take_lost()) {
         if constexpr (M.anchors)
           if (anchors_.active() && !anchors_.armed(slot)) anchors_.arm(slot, x, c, s);
@@ -93,12 +96,12 @@ class MapperSet {
   void arm(int slot, const Lane& x, const Params& c, const Settlement<N>& s) {
     if (s.settled) return;
     bool trapped = false;
-    if constexpr (M.trap) trapped = trap_.active() && trap_.decides_alone(x, c);
+    if constexpr (kTrap) trapped = trap_.active() && trap_.decides_alone(x, c);
     if constexpr (M.anchors)
       if (anchors_.active() && !trapped) anchors_.arm(slot, x, c, s);
     if constexpr (M.recur)
       if (recur_.active() && !trapped) recur_.arm(slot, x, c, s);
-    if constexpr (M.trap)
+    if constexpr (kTrap)
       if (trap_.active()) trap_.arm(slot, x, c, s);
     if constexpr (M.strobe)
       if (strobe_.active()) strobe_.arm(slot, x, c, s);
@@ -110,7 +113,7 @@ class MapperSet {
 
   // Whether a lane flag can be raised now (else the runner's screen loop skips flag()).
   bool flagging() const {
-    if constexpr (M.trap) return trap_.active() && trap_.armed_lanes() > 0;
+    if constexpr (kTrap) return trap_.active() && trap_.armed_lanes() > 0;
     return false;
   }
 
@@ -118,7 +121,7 @@ class MapperSet {
   template <class Tile>
   [[gnu::always_inline]] LookInt flag(const Tile& t, int i) const {
     LookInt f = 0;
-    if constexpr (M.trap)
+    if constexpr (kTrap)
       if (trap_.active()) f |= trap_.flag(t, i);
     return f;
   }
@@ -146,7 +149,7 @@ class MapperSet {
 
   // Only where the plan has the energy trap (its trap_verdict column), so it is compiled in.
   TrapVerdict trap_verdict(const Params& c) const {
-    if constexpr (M.trap) return trap_.verdict(c);
+    if constexpr (kTrap) return trap_.verdict(c);
     return TrapVerdict::not_applicable;
   }
 
@@ -161,9 +164,10 @@ class MapperSet {
 
   // The plan's mappers, which this set must hold: a kernel built for another plan is a bug.
   static MapperChoice used(const RunPlan& plan) {
-    const MapperChoice u = mappers_of(plan);
+    MapperChoice u = mappers_of(plan);
     if (!covers(M, u))
       throw std::logic_error("the kernel was compiled without a basin mapper this run uses");
+    u.trap = u.trap && has_energy_trap<S>();  // else the trap would not activate (EnergyTrap)
     return u;
   }
 
@@ -207,14 +211,14 @@ class MapperSet {
   template <class F>
   [[gnu::always_inline]] void each(F&& f) {
     if constexpr (M.anchors) if (anchors_.active()) f(anchors_);
-    if constexpr (M.trap) if (trap_.active()) f(trap_);
+    if constexpr (kTrap) if (trap_.active()) f(trap_);
     if constexpr (M.strobe) if (strobe_.active()) f(strobe_);
     if constexpr (M.recur) if (recur_.active()) f(recur_);
   }
   template <class F>
   [[gnu::always_inline]] void each(F&& f) const {
     if constexpr (M.anchors) if (anchors_.active()) f(anchors_);
-    if constexpr (M.trap) if (trap_.active()) f(trap_);
+    if constexpr (kTrap) if (trap_.active()) f(trap_);
     if constexpr (M.strobe) if (strobe_.active()) f(strobe_);
     if constexpr (M.recur) if (recur_.active()) f(recur_);
   }
