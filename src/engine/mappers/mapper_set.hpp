@@ -147,7 +147,8 @@ class MapperSet {
     return next;
   }
 
-  // Only where the plan has the energy trap (its trap_verdict column), so it is compiled in.
+  // Called where the plan asks for the energy trap (its trap_verdict column); a K without one
+  // has none compiled in, and its verdict is an inactive trap's.
   TrapVerdict trap_verdict(const Params& c) const {
     if constexpr (kTrap) return trap_.verdict(c);
     return TrapVerdict::not_applicable;
