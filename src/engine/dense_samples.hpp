@@ -37,10 +37,9 @@ class DenseSamples {
     }
   }
 
-  // Whether the run has samples of any kind (else its lanes never build a dense output).
-  bool any() const {
-    return plan_.samples > 0 || plan_.map.sync_r >= 0 || strobe_ || window_last_ >= 0;
-  }
+  // Whether the run has samples of any kind (else its lanes never build a dense output): the
+  // rule a kernel's DenseOutput is chosen by, in one place (run_plan.hpp).
+  bool any() const { return samples_inside_steps(plan_); }
 
   // The time of the lane's next sample of any kind, +∞ when it has them all.
   double next(const Book& b) const {

@@ -249,12 +249,6 @@ void RunPlan::add_basin_columns(const BasinMeasure& basin) {
   }
 }
 
-// DenseSamples::any()'s terms, read off the plan.
-bool samples_inside_steps(const RunPlan& plan) {
-  return plan.samples > 0 || plan.map.sync_r >= 0 ||
-         (plan.attractors.dense_strobe && plan.map.basin >= 0) || plan.observe.window_every_step;
-}
-
 std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, const SceneInfo& scene,
                                                        const MethodInfo& method,
                                                        std::vector<std::unique_ptr<RunSpec>>& specs) {

@@ -117,8 +117,13 @@ std::vector<std::unique_ptr<RunPlan>> step_size_slices(const RunSpec& spec, cons
 // Whether an adaptive method's lanes take samples inside their steps (a trajectory, sync, a
 // stroboscopic map, an observe window without trajectory): they need the steps' continuous
 // extension (engine/dense_samples.hpp). A kernel built at run time for a plan without them
-// compiles no dense output (BlockRunner's DenseOutput).
-bool samples_inside_steps(const RunPlan& plan);
+// compiles no dense output (BlockRunner's DenseOutput). Inline: kernels call it too, and the
+// program exports none of its own functions to them but the engine's (engine_exports.list).
+// An observe window's last step is never below 0 (observe_plan.cpp refuses an empty window).
+inline bool samples_inside_steps(const RunPlan& plan) {
+  return plan.samples > 0 || plan.map.sync_r >= 0 ||
+         (plan.attractors.dense_strobe && plan.map.basin >= 0) || plan.observe.window_every_step;
+}
 
 // Integrates the points of `results.range` and fills `results`. Thread-safe for distinct blocks.
 // (engine/kernel_dispatch.cpp)
