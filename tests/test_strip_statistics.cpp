@@ -101,7 +101,9 @@ void expect_same_for_strips(const std::vector<BasinLabel>& labels, const BasinMa
   // The reference: one band holding the whole plane, read at once (no halo, nothing read again).
   std::int64_t whole_read = 0;
   const MapStatistics one = strip_statistics(shape, reader_of(labels, &whole_read), {axis, per_slice, rows});
-  if (shape.plane_axes == 2) ASSERT_EQ(whole_read, rows * shape.dims.back());
+  if (shape.plane_axes > 0) {
+    ASSERT_EQ(whole_read, rows * shape.dims.back());
+  }
   if (axis >= 0) expect_same_fractions(one.fractions, counted_fractions(labels, shape, axis));
   if (per_slice) {
     // Each slice's statistics, as those of a map of that slice alone.
@@ -119,15 +121,19 @@ void expect_same_for_strips(const std::vector<BasinLabel>& labels, const BasinMa
     SCOPED_TRACE(strip);
     std::int64_t largest_read = 0;
     const MapStatistics s = strip_statistics(shape, reader_of(labels, &largest_read),
-                                             {axis, per_slice, strip});
+                                             {axis, per_slice, strip, strip});
     expect_same(s.whole, one.whole);
     if (axis >= 0) expect_same_fractions(s.fractions, one.fractions);
     ASSERT_EQ(s.per_slice.size(), one.per_slice.size());
     for (std::size_t v = 0; v < s.per_slice.size(); ++v) expect_same(s.per_slice[v], one.per_slice[v]);
-    // O(band): with a thin band no read spans the plane (1-D planes aside: a row each).
+    // O(band): with a thin band no read spans the plane. A 1-D plane's segment is read with the
+    // 4 cells its last box reaches beyond it; its ε neighbours are read a segment at a time.
     if (shape.plane_axes == 2 && strip < 64) {
       const std::int64_t row = shape.dims.back();
       EXPECT_LT(largest_read, 40 * row);
+    }
+    if (shape.plane_axes == 1) {
+      EXPECT_LE(largest_read, std::min(strip + 4, shape.dims.back()));
     }
   }
 }
@@ -162,6 +168,38 @@ TEST(StripStatistics, StraightBoundaryInClosedForm) {
   EXPECT_LT(s.uncertainty_exponent, 1.0 + 8.0 / (columns - 8.0));
   EXPECT_DOUBLE_EQ(s.boundary_dimension, 2.0 - s.uncertainty_exponent);
   EXPECT_FALSE(s.wada.applies());  // two basins
+  expect_same_for_strips(labels, shape);
+}
+
+// The same line on a 1-D plane of C cells, C/2 = 2 mod 5: one box of 5 cells straddles it (2
+// and 3 cells), S_bb = h and S_b = h / (C/5); ε cells on each side of it are uncertain at ε,
+// f(ε) = 2ε / (C − 2ε). The row is read in segments far shorter than the largest ε (64).
+TEST(StripStatistics, StraightBoundaryOnALineInClosedForm) {
+  const std::int64_t columns = 1004;
+  std::vector<BasinLabel> labels(static_cast<std::size_t>(columns));
+  for (std::int64_t c = 0; c < columns; ++c) labels[static_cast<std::size_t>(c)] = c < columns / 2 ? 1 : 2;
+  const BasinMapShape shape{{columns}, 1};
+  const double h = -(0.4 * std::log(0.4) + 0.6 * std::log(0.6));
+  for (std::int64_t segment : {0, 1, 6, 333}) {
+    SCOPED_TRACE(segment);
+    std::int64_t largest_read = 0;
+    const BasinStatistics s = strip_statistics(shape, reader_of(labels, &largest_read), {-1, false, 0, segment}).whole;
+    EXPECT_EQ(largest_read, segment == 0 ? columns : segment + 4);
+    EXPECT_EQ(s.cells, (std::map<int, std::int64_t>{{1, columns / 2}, {2, columns / 2}}));
+    EXPECT_EQ(s.boxes, columns / 5);
+    EXPECT_EQ(s.boundary_boxes, 1);
+    EXPECT_NEAR(s.boundary_basin_entropy, h, 1e-15);
+    EXPECT_NEAR(s.basin_entropy, h / static_cast<double>(columns / 5), 1e-15);
+    EXPECT_EQ(s.epsilon_cells, (std::vector<int>{1, 2, 4, 8, 16, 32, 64}));  // 8ε within the row
+    ASSERT_EQ(s.uncertain_fraction.size(), s.epsilon_cells.size());
+    for (std::size_t k = 0; k < s.epsilon_cells.size(); ++k) {
+      const double eps = s.epsilon_cells[k];
+      EXPECT_DOUBLE_EQ(s.uncertain_fraction[k], 2.0 * eps / (columns - 2.0 * eps)) << eps;
+    }
+    EXPECT_GT(s.uncertainty_exponent, 1.0);  // as on the plane: α → 1, a boundary of dimension 0
+    EXPECT_LT(s.uncertainty_exponent, 1.0 + 128.0 / (columns - 128.0));
+    EXPECT_DOUBLE_EQ(s.boundary_dimension, 1.0 - s.uncertainty_exponent);
+  }
   expect_same_for_strips(labels, shape);
 }
 

@@ -12,6 +12,7 @@ namespace cs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::int64_t kBox = 5;  // cells along each axis of a box (BasinStatistics::box_cells)
 
 // The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
 // cost ~10 ms on a 512² map).
@@ -135,6 +136,7 @@ class StripPass {
     }
     strip_ = options.strip_rows > 0 ? options.strip_rows
                                     : std::max<std::int64_t>(1, kStripCells / std::max<std::int64_t>(columns_, 1));
+    segment_ = options.line_cells > 0 ? options.line_cells : kStripCells;
     if (options.fractions_axis >= 0) {
       stride_ = 1;
       for (std::size_t a = static_cast<std::size_t>(options.fractions_axis) + 1; a < n; ++a)
@@ -151,6 +153,8 @@ class StripPass {
   MapStatistics run() {
     if (shape_.plane_axes == 0) {
       count_flat();
+    } else if (shape_.plane_axes == 1) {
+      for (std::int64_t s = 0; s < slices_; ++s) line(s);
     } else {
       for (std::int64_t s = 0; s < slices_; ++s) slice(s);
     }
@@ -198,23 +202,83 @@ class StripPass {
     }
   }
 
+  // A 1-D plane (one slice's row of columns_ cells), a segment of cells at a time: its boxes of
+  // 5 cells whose first cell is in the segment, in order along the row (so the entropies keep
+  // their sum's bits), and for each ε its cells' neighbours ε to the left and right, read again
+  // where the segment and its box halo do not hold them.
+  void line(std::int64_t s) {
+    Tally* mine = per_slice_.empty() ? nullptr : &per_slice_[static_cast<std::size_t>(s)];
+    const std::int64_t row = s * columns_;
+    std::vector<BasinLabel> segment, left, right;
+    for (std::int64_t first = 0; first < columns_; first += segment_) {
+      const std::int64_t end = std::min(columns_, first + segment_);
+      const std::int64_t held = std::min(columns_, end + kBox - 1);  // the last box's cells
+      read_cells(row + first, row + held, segment);
+      count_cells(segment.data(), row + first, row + end, mine);
+      for (std::int64_t c0 = (first + kBox - 1) / kBox * kBox; c0 < end && c0 + kBox <= columns_; c0 += kBox) {
+        BoxCounts box;
+        for (std::int64_t c = c0; c < c0 + kBox; ++c) box.add(segment[static_cast<std::size_t>(c - first)]);
+        add_box(box, box.entropy(static_cast<int>(kBox)), mine);
+      }
+      // Cells [a, b) of the row: from the segment when it holds them, else read into `scratch`.
+      const auto cells_at = [&](std::int64_t a, std::int64_t b,
+                                std::vector<BasinLabel>& scratch) -> const BasinLabel* {
+        if (a >= first && b <= held) return segment.data() + (a - first);
+        read_cells(row + a, row + b, scratch);
+        return scratch.data();
+      };
+      for (std::size_t k = 0; k < eps_.size(); ++k) {
+        const std::int64_t eps = eps_[k];
+        const std::int64_t from = std::max(first, eps), to = std::min(end, columns_ - eps);
+        if (from >= to) continue;
+        const BasinLabel* here = segment.data() + (from - first);
+        const BasinLabel* before = cells_at(from - eps, to - eps, left);
+        const BasinLabel* after = cells_at(from + eps, to + eps, right);
+        std::int64_t uncertain = 0;
+        for (std::int64_t i = 0; i < to - from; ++i) uncertain += before[i] != here[i] || after[i] != here[i];
+        add_uncertain(k, to - from, uncertain, mine);
+      }
+    }
+  }
+
+  // Cells [begin, end) of the flat grid, into `cells`.
+  void read_cells(std::int64_t begin, std::int64_t end, std::vector<BasinLabel>& cells) const {
+    cells.resize(static_cast<std::size_t>(end - begin));
+    if (end > begin) read_(begin, end, cells.data());
+  }
+
+  void add_box(const BoxCounts& box, double entropy, Tally* mine) {
+    for (Tally* t : {&whole_, mine}) {
+      if (!t) continue;
+      t->sum += entropy;
+      ++t->boxes;
+      if (box.counts.size() > 1) t->boundary_sum += entropy, ++t->boundary_boxes;
+    }
+  }
+
+  void add_uncertain(std::size_t k, std::int64_t cells, std::int64_t uncertain, Tally* mine) {
+    for (Tally* t : {&whole_, mine}) {
+      if (!t) continue;
+      t->eps_cells[k] += cells;
+      t->eps_uncertain[k] += uncertain;
+    }
+  }
+
+  // A 2-D plane (one slice), a band of rows at a time, then its Wada test.
   void slice(std::int64_t s) {
     Tally* mine = per_slice_.empty() ? nullptr : &per_slice_[static_cast<std::size_t>(s)];
     std::vector<BasinLabel> band, above, below;
     std::vector<std::int32_t> basins;
-    const bool plane = shape_.plane_axes == 2;
-    const std::int64_t box_rows = plane ? 5 : 1;  // BasinStatistics::box_cells
     for (std::int64_t first = 0; first < rows_; first += strip_) {
       const std::int64_t end = std::min(rows_, first + strip_);
       // The band: its rows and those its last boxes reach below it.
-      const std::int64_t band_end = std::min(rows_, end + box_rows - 1);
+      const std::int64_t band_end = std::min(rows_, end + kBox - 1);
       read_rows(s, first, band_end, band);
       count_cells(band.data(), flat(s, first), flat(s, end), mine);
-      if (plane) wada_detail::collect_basins(band.data(), static_cast<std::size_t>((end - first) * columns_), basins);
-      boxes(band.data(), first, end, box_rows, mine);
+      wada_detail::collect_basins(band.data(), static_cast<std::size_t>((end - first) * columns_), basins);
+      boxes(band.data(), first, end, mine);
       for (std::size_t k = 0; k < eps_.size(); ++k) uncertain(s, k, band, first, end, above, below, mine);
     }
-    if (!plane) return;
     // The ε bands are done with: the Wada pass holds one band and its masks, no more
     // (summary_bytes_on_rank0 counts the larger of the two passes, not their sum).
     std::vector<BasinLabel>().swap(above);
@@ -240,20 +304,13 @@ class StripPass {
 
   // The boxes whose first row is in [first, end): over the bands, slice by slice, row of boxes by
   // row, column by column, whatever the band height (the sum of their entropies keeps its bits).
-  void boxes(const BasinLabel* band, std::int64_t first, std::int64_t end, std::int64_t box_rows, Tally* mine) {
-    const std::int64_t e = 5;
-    for (std::int64_t r0 = (first + box_rows - 1) / box_rows * box_rows; r0 < end && r0 + box_rows <= rows_; r0 += box_rows)
-      for (std::int64_t c0 = 0; c0 + e <= columns_; c0 += e) {
+  void boxes(const BasinLabel* band, std::int64_t first, std::int64_t end, Tally* mine) {
+    for (std::int64_t r0 = (first + kBox - 1) / kBox * kBox; r0 < end && r0 + kBox <= rows_; r0 += kBox)
+      for (std::int64_t c0 = 0; c0 + kBox <= columns_; c0 += kBox) {
         BoxCounts box;
-        for (std::int64_t r = r0; r < r0 + box_rows; ++r)
-          for (std::int64_t c = c0; c < c0 + e; ++c) box.add(band[(r - first) * columns_ + c]);
-        const double entropy = box.entropy(static_cast<int>(box_rows * e));
-        for (Tally* t : {&whole_, mine}) {
-          if (!t) continue;
-          t->sum += entropy;
-          ++t->boxes;
-          if (box.counts.size() > 1) t->boundary_sum += entropy, ++t->boundary_boxes;
-        }
+        for (std::int64_t r = r0; r < r0 + kBox; ++r)
+          for (std::int64_t c = c0; c < c0 + kBox; ++c) box.add(band[(r - first) * columns_ + c]);
+        add_box(box, box.entropy(static_cast<int>(kBox * kBox)), mine);
       }
   }
 
@@ -272,33 +329,27 @@ class StripPass {
   void uncertain(std::int64_t s, std::size_t k, const std::vector<BasinLabel>& band, std::int64_t first,
                  std::int64_t end, std::vector<BasinLabel>& above, std::vector<BasinLabel>& below, Tally* mine) {
     const std::int64_t eps = eps_[k];
-    const bool plane = shape_.plane_axes == 2;
-    const std::int64_t row_eps = plane ? eps : 0;
-    const std::int64_t from = std::max(first, row_eps), to = std::min(end, rows_ - row_eps);
+    const std::int64_t from = std::max(first, eps), to = std::min(end, rows_ - eps);
     if (from >= to || columns_ - eps <= eps) return;
     const BasinLabel* here = band.data() + (from - first) * columns_;
-    const BasinLabel* up = plane ? rows_at(s, from - eps, to - eps, band, first, above) : nullptr;
-    const BasinLabel* down = plane ? rows_at(s, from + eps, to + eps, band, first, below) : nullptr;
+    const BasinLabel* up = rows_at(s, from - eps, to - eps, band, first, above);
+    const BasinLabel* down = rows_at(s, from + eps, to + eps, band, first, below);
     std::int64_t cells = 0, uncertain = 0;
     for (std::int64_t r = 0; r < to - from; ++r)
       for (std::int64_t c = eps; c < columns_ - eps; ++c) {
         const std::int64_t i = r * columns_ + c;
-        bool differs = here[i - eps] != here[i] || here[i + eps] != here[i];
-        if (plane) differs = differs || up[i] != here[i] || down[i] != here[i];
+        const bool differs = here[i - eps] != here[i] || here[i + eps] != here[i] ||
+                             up[i] != here[i] || down[i] != here[i];
         ++cells;
         uncertain += differs;
       }
-    for (Tally* t : {&whole_, mine}) {
-      if (!t) continue;
-      t->eps_cells[k] += cells;
-      t->eps_uncertain[k] += uncertain;
-    }
+    add_uncertain(k, cells, uncertain, mine);
   }
 
   const BasinMapShape& shape_;
   const LabelReader& read_;
   StripOptions options_;
-  std::int64_t slices_ = 1, rows_ = 1, columns_ = 1, strip_ = 1;
+  std::int64_t slices_ = 1, rows_ = 1, columns_ = 1, strip_ = 1, segment_ = 1;
   std::vector<int> eps_;
   std::int64_t stride_ = 1, values_ = 0;
   std::vector<LabelCounts> along_;

@@ -1,5 +1,5 @@
-// The statistics of a basin map (basin_statistics.hpp), read a band of rows at a time, so that
-// the process that computes them holds O(band), not O(map): rank 0 reads the labels back from
+// The statistics of a basin map (basin_statistics.hpp), read a band of rows at a time (a 1-D
+// plane: a segment of its cells at a time), so that the process that computes them holds O(band), not O(map): rank 0 reads the labels back from
 // the output file it has just written them to (parallel/basin_summary.cpp). The numbers do not
 // depend on the band height, bit for bit: every count is an integer (cells per label, uncertain
 // cells per ε, the Wada test's cells), and the one sum of doubles, the boxes' entropies, is
@@ -32,9 +32,11 @@ struct StripOptions {
   int fractions_axis = -1;  // fractions along this axis (-1: none)
   // The statistics of each slice along axis 0 on its own (a grid of that axis and the plane).
   bool per_slice = false;
-  // Rows of the plane counted per band (0: about kStripCells cells). A 1-D plane is one row:
-  // its band is the row, whatever its length.
+  // Rows of a 2-D plane counted per band (0: about kStripCells cells).
   std::int64_t strip_rows = 0;
+  // Cells of a 1-D plane counted per segment (0: kStripCells): a long 1-D plane is read a
+  // segment at a time, not whole.
+  std::int64_t line_cells = 0;
 };
 
 inline constexpr std::int64_t kStripCells = std::int64_t{1} << 20;

@@ -200,7 +200,10 @@ double summary_bytes_on_rank0(const RunPlan& whole) {
   if (shape.plane_axes == 0)
     return static_cast<double>(std::min<std::int64_t>(kStripCells, whole.grid.size())) * sizeof(BasinLabel);
   const auto columns = shape.dims.back();
-  const std::int64_t rows = shape.plane_axes == 2 ? shape.dims[shape.dims.size() - 2] : 1;
+  // A 1-D plane's segment with its box's 4 cells beyond, and its ε neighbours on either side.
+  if (shape.plane_axes == 1)
+    return static_cast<double>(std::min(columns, kStripCells + 4)) * 3 * sizeof(BasinLabel);
+  const std::int64_t rows = shape.dims[shape.dims.size() - 2];
   const std::int64_t strip = std::max<std::int64_t>(1, kStripCells / columns);
   // A band and its halos (strip_statistics.cpp): its labels and the two bands ε above and below
   // it, or, for the Wada test, its labels and two 64-bit masks and three bytes a cell.

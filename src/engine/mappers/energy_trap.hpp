@@ -13,6 +13,7 @@
 #include <deque>
 #include <limits>
 #include <mutex>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -27,6 +28,7 @@ template <Scene S, bool Uniform, int W>
 class EnergyTrap {
   static constexpr int D = S::dof;
   static constexpr int N = 2 * D;
+  static constexpr std::int64_t kMostCombinations = std::int64_t{1} << 22;
   using Params = ParamsOf<S, double>;
 
  public:
@@ -39,20 +41,30 @@ class EnergyTrap {
     std::fill(well_energy_, well_energy_ + W, -std::numeric_limits<double>::infinity());
     if (!active_) return;
     for (int d = 0; d < D; ++d) angle_period_[d] = plan.attractors.angle_period[static_cast<std::size_t>(d)];
+    std::int64_t combinations = 1;
     for (int d = 0; d < D; ++d) {
       q_values_[d] = values_of(plan, d);
-      p_values_[d] = values_of(plan, D + d);
       // The map's positions (BasinBox): the spec's q with its axis's values.
       double lo = plan.spec.initial.at(plan.scene.variables[static_cast<std::size_t>(d)].name), hi = lo;
       for (double v : q_values_[d]) lo = std::min(lo, v), hi = std::max(hi, v);
       positions_.lo[d] = lo, positions_.hi[d] = hi;
       widen_[d] = 0.5 * std::max(hi - lo, 1.0);
+      // E₀'s kinetic part: the sum of each p's largest p²/2.
+      double most = 0.0;
+      for (double p : values_of(plan, D + d)) most = std::max(most, 0.5 * (p * p));
+      kinetic_ += most;
+      if (!q_unbounded_) combinations *= static_cast<std::int64_t>(q_values_[d].size());
+      q_unbounded_ = combinations > kMostCombinations;
     }
     if constexpr (Uniform) {
       uniform_wells_ = &wells_for(uniform);
       uniform_box_ = uniform_wells_->box;
     }
   }
+
+  // Not copied: q_values_ may point into fixed_.
+  EnergyTrap(const EnergyTrap&) = delete;
+  EnergyTrap& operator=(const EnergyTrap&) = delete;
 
   bool active() const { return active_; }
 
@@ -164,30 +176,25 @@ class EnergyTrap {
   }
 
  private:
-  // The values a state variable (q.., p..) takes over the grid: its axis's, else the spec's one.
-  static std::vector<double> values_of(const RunPlan& plan, int variable) {
+  // The values a state variable (q.., p..) takes over the grid: its axis's (the plan's own, not
+  // a copy: a 1-D plane's axis is the whole grid), else the spec's one, kept in fixed_.
+  std::span<const double> values_of(const RunPlan& plan, int variable) {
     const std::string& name = plan.scene.variables[static_cast<std::size_t>(variable)].name;
     for (const auto& axis : plan.spec.axes)
       if (!axis.is_parameter && !axis.is_step_size && axis.target == name) return axis.values;
-    return {plan.spec.initial.at(name)};
+    fixed_[variable] = plan.spec.initial.at(name);
+    return {&fixed_[variable], 1};
   }
 
   // The largest initial energy E₀ = K(q₀, p₀, 0) = Σp₀²/2 + V(q₀) of the lanes with parameters
   // c. The grid is a product of axes, so those lanes start at every combination of the state
   // axes' values: E₀ is a function of c and the spec alone (the same on every rank and thread).
   // Its kinetic part is the sum of each p's largest p²/2; V is taken at every combination of
-  // the q axes' values, up to 2²² of them (more: +∞, the box is not grown).
+  // the q axes' values, up to kMostCombinations of them (more: +∞, the box is not grown).
   double largest_initial_energy(const Params& c) const {
     if constexpr (!has_energy_trap<S>()) return INFINITY;
-    double kinetic = 0.0, potential_max = -INFINITY;
-    std::int64_t combinations = 1;
-    for (int d = 0; d < D; ++d) {
-      double most = 0.0;
-      for (double p : p_values_[d]) most = std::max(most, 0.5 * (p * p));
-      kinetic += most;
-      combinations *= static_cast<std::int64_t>(q_values_[d].size());
-      if (combinations > (std::int64_t{1} << 22)) return INFINITY;
-    }
+    if (q_unbounded_) return INFINITY;
+    double potential_max = -INFINITY;
     std::array<std::size_t, D> index{};
     while (true) {
       double q[D];
@@ -199,7 +206,7 @@ class EnergyTrap {
       while (d < D && ++index[d] == q_values_[d].size()) index[d++] = 0;
       if (d == D) break;
     }
-    return kinetic + potential_max;
+    return kinetic_ + potential_max;
   }
 
   void set_level(int slot, double level) {
@@ -227,19 +234,22 @@ class EnergyTrap {
   // The wells of one parameter set, in the box confining_box() and find_wells() chose for it,
   // found once per process and kept (~0.1 s for the magnetic pendulum; the same bits whichever
   // thread finds them). Entries are never removed, so the references handed out stay valid; a
-  // grid has few distinct parameter sets. The box depends on c, the positions and the state
-  // axes' values (E₀) alone: those are the key, and E₀ is computed once per entry (it visits
+  // grid has few distinct parameter sets. The box depends on c, the positions, h and E₀ alone,
+  // and E₀ on c, the kinetic part and the q axes' values (none when their combinations are too
+  // many: E₀ is then +∞): those are the key, and E₀ is computed once per entry (it visits
   // every combination of the q axes' values; per block it cost seconds on a 512² map).
   [[gnu::cold]] const Wells<D>& wells_for(const Params& c) const {
     struct Known {
       Params params;
       BasinBox<D> positions;
       std::array<double, D> widen;
-      std::vector<double> q_values[D], p_values[D];
+      double kinetic;
+      bool q_unbounded;
+      std::vector<double> q_values[D];  // empty when q_unbounded
       double h;
       Wells<D> wells;
     };
-    auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+    auto same = [](const std::vector<double>& a, std::span<const double> b) {
       return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
     };
     static std::mutex mutex;
@@ -247,15 +257,17 @@ class EnergyTrap {
     std::lock_guard lock(mutex);
     for (const Known& k : known) {
       bool hit = std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
-                 k.positions.hi == positions_.hi && k.widen == widen_ && k.h == clock_.h;
-      for (int d = 0; d < D && hit; ++d)
-        hit = same(k.q_values[d], q_values_[d]) && same(k.p_values[d], p_values_[d]);
+                 k.positions.hi == positions_.hi && k.widen == widen_ && k.h == clock_.h &&
+                 std::memcmp(&k.kinetic, &kinetic_, sizeof kinetic_) == 0 &&
+                 k.q_unbounded == q_unbounded_;
+      for (int d = 0; d < D && hit && !q_unbounded_; ++d) hit = same(k.q_values[d], q_values_[d]);
       if (hit) return k.wells;
     }
     const double e0 = largest_initial_energy(c);
     const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
-    Known k{c, positions_, widen_, {}, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
-    for (int d = 0; d < D; ++d) k.q_values[d] = q_values_[d], k.p_values[d] = p_values_[d];
+    Known k{c, positions_, widen_, kinetic_, q_unbounded_, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
+    if (!q_unbounded_)
+      for (int d = 0; d < D; ++d) k.q_values[d].assign(q_values_[d].begin(), q_values_[d].end());
     return known.emplace_back(std::move(k)).wells;
   }
 
@@ -267,7 +279,12 @@ class EnergyTrap {
   Params uniform_params_;
   BasinBox<D> positions_{};        // each q's range over the grid
   std::array<double, D> widen_{};  // … and how far the box extends beyond it (BasinBox)
-  std::vector<double> q_values_[D], p_values_[D];  // each q's and p's values over the grid
+  // Each q's values over the grid (the plan's axis, or fixed_), and whether their combinations
+  // are more than E₀ visits (largest_initial_energy).
+  std::span<const double> q_values_[D];
+  bool q_unbounded_ = false;
+  double kinetic_ = 0.0;  // E₀'s kinetic part: Σ over p of its largest p²/2 over the grid
+  double fixed_[N] = {};  // the spec's value of a variable without an axis (values_of)
   mutable std::vector<std::pair<Params, const Wells<D>*>> seen_;  // wells_of (not Uniform)
   mutable std::size_t last_ = 0;  // … the one met last
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
