@@ -3,7 +3,6 @@
 // converted to the dataset's element type when written.
 #pragma once
 
-#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <string>
@@ -24,21 +23,16 @@ struct ColumnSpec {
 };
 
 // Whole numbers (a basin map's labels) in the narrowest type that holds them all: 1, 2 or 4
-// bytes a value instead of a double's 8 (engine/basin_column.hpp).
+// bytes a value instead of a double's 8 (engine/basin_column.hpp). Its members are defined in
+// results.cpp: every kernel built at run time includes this header, and inline here their
+// std::visit and the three vectors' members were instantiated in each kernel's compile, unused
+// (about 0.05 s of its compiler CPU).
 class CompactColumn {
  public:
-  void assign(const std::vector<double>& values) {
-    double low = 0.0, high = 0.0;
-    for (double v : values) low = std::min(low, v), high = std::max(high, v);
-    if (low >= INT8_MIN && high <= INT8_MAX) data_ = std::vector<std::int8_t>(values.begin(), values.end());
-    else if (low >= INT16_MIN && high <= INT16_MAX) data_ = std::vector<std::int16_t>(values.begin(), values.end());
-    else data_ = std::vector<std::int32_t>(values.begin(), values.end());
-  }
-  void expand(std::vector<double>& out) const {
-    std::visit([&](const auto& v) { out.assign(v.begin(), v.end()); }, data_);
-  }
-  std::size_t size() const { return std::visit([](const auto& v) { return v.size(); }, data_); }
-  void clear() { data_ = std::vector<std::int8_t>(); }
+  void assign(const std::vector<double>& values);
+  void expand(std::vector<double>& out) const;
+  std::size_t size() const;
+  void clear();
 
  private:
   std::variant<std::vector<std::int8_t>, std::vector<std::int16_t>, std::vector<std::int32_t>> data_;
@@ -61,13 +55,9 @@ struct BlockResults {
   // false when the block's entries would cost more than its per-point records.
   bool records_compacted = false;
 
-  BlockResults(PointRange r, const std::vector<ColumnSpec>& specs) : range(r) {
-    auto n = r.end - r.begin;
-    for (const auto& s : specs) {
-      columns.emplace_back(static_cast<std::size_t>(s.grows ? 0 : s.per_block ? s.width : n * s.width), 0.0);
-      grows.push_back(s.grows);
-    }
-  }
+  // Zeros, each column at its length for the range (results.cpp: the program makes blocks, the
+  // kernels only fill them).
+  BlockResults(PointRange r, const std::vector<ColumnSpec>& specs);
 };
 
 }  // namespace cs
