@@ -16,14 +16,17 @@
 
 namespace cs::test {
 
-// Reads `labels`; the longest read so far into *largest_read, if given.
-inline LabelReader reader_of(const std::vector<BasinLabel>& labels, std::int64_t* largest_read = nullptr) {
-  return [&labels, largest_read](std::int64_t begin, std::int64_t end, BasinLabel* out) {
+// Reads `labels`; the longest read so far into *largest_read, and the cells read in all into
+// *total_read, if given.
+inline LabelReader reader_of(const std::vector<BasinLabel>& labels, std::int64_t* largest_read = nullptr,
+                             std::int64_t* total_read = nullptr) {
+  return [&labels, largest_read, total_read](std::int64_t begin, std::int64_t end, BasinLabel* out) {
     ASSERT_LE(0, begin);
     ASSERT_LE(begin, end);
     ASSERT_LE(end, static_cast<std::int64_t>(labels.size()));
     std::memcpy(out, labels.data() + begin, static_cast<std::size_t>(end - begin) * sizeof(BasinLabel));
     if (largest_read) *largest_read = std::max(*largest_read, end - begin);
+    if (total_read) *total_read += end - begin;
   };
 }
 

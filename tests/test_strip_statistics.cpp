@@ -7,8 +7,10 @@
 // (test_wada.cpp checks the Wada test's verdicts on maps whose answer is known).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "basin_maps.hpp"
@@ -126,14 +128,14 @@ void expect_same_for_strips(const std::vector<BasinLabel>& labels, const BasinMa
     if (axis >= 0) expect_same_fractions(s.fractions, one.fractions);
     ASSERT_EQ(s.per_slice.size(), one.per_slice.size());
     for (std::size_t v = 0; v < s.per_slice.size(); ++v) expect_same(s.per_slice[v], one.per_slice[v]);
-    // O(band): with a thin band no read spans the plane. A 1-D plane's segment is read with the
-    // 4 cells its last box reaches beyond it; its ε neighbours are read a segment at a time.
+    // O(band): with a thin band no read spans the plane. A 1-D plane's segment is read with a
+    // segment's reach on either side and the 4 cells its last box reaches beyond it.
     if (shape.plane_axes == 2 && strip < 64) {
       const std::int64_t row = shape.dims.back();
       EXPECT_LT(largest_read, 40 * row);
     }
     if (shape.plane_axes == 1) {
-      EXPECT_LE(largest_read, std::min(strip + 4, shape.dims.back()));
+      EXPECT_LE(largest_read, std::min(3 * strip + 4, shape.dims.back()));
     }
   }
 }
@@ -173,7 +175,9 @@ TEST(StripStatistics, StraightBoundaryInClosedForm) {
 
 // The same line on a 1-D plane of C cells, C/2 = 2 mod 5: one box of 5 cells straddles it (2
 // and 3 cells), S_bb = h and S_b = h / (C/5); ε cells on each side of it are uncertain at ε,
-// f(ε) = 2ε / (C − 2ε). The row is read in segments far shorter than the largest ε (64).
+// f(ε) = 2ε / (C − 2ε). The row is read in segments, some far shorter than the largest ε (64):
+// each read once with its reach (a segment, at most the largest ε) on either side, the ε beyond
+// that reach read again.
 TEST(StripStatistics, StraightBoundaryOnALineInClosedForm) {
   const std::int64_t columns = 1004;
   std::vector<BasinLabel> labels(static_cast<std::size_t>(columns));
@@ -182,9 +186,20 @@ TEST(StripStatistics, StraightBoundaryOnALineInClosedForm) {
   const double h = -(0.4 * std::log(0.4) + 0.6 * std::log(0.6));
   for (std::int64_t segment : {0, 1, 6, 333}) {
     SCOPED_TRACE(segment);
-    std::int64_t largest_read = 0;
-    const BasinStatistics s = strip_statistics(shape, reader_of(labels, &largest_read), {-1, false, 0, segment}).whole;
-    EXPECT_EQ(largest_read, segment == 0 ? columns : segment + 4);
+    std::int64_t largest_read = 0, total_read = 0;
+    const BasinStatistics s =
+        strip_statistics(shape, reader_of(labels, &largest_read, &total_read), {-1, false, 0, segment}).whole;
+    const std::int64_t cut = segment == 0 ? columns : segment, reach = std::min<std::int64_t>(cut, 64);
+    const std::int64_t segments = (columns + cut - 1) / cut;
+    EXPECT_EQ(largest_read, std::min(columns, cut + reach + std::max<std::int64_t>(reach, 4)));
+    // Each segment once with its reach; an ε beyond the reach (ε > segment) twice more.
+    std::int64_t beyond = 0;
+    for (std::int64_t eps = 1; 8 * eps <= columns; eps *= 2)
+      if (eps > reach) beyond += 2 * (columns - 2 * eps);
+    EXPECT_LE(total_read, columns + segments * (2 * reach + 4) + beyond);
+    if (segment == 333) {
+      EXPECT_LT(total_read, 2 * columns);  // the largest ε within reach
+    }
     EXPECT_EQ(s.cells, (std::map<int, std::int64_t>{{1, columns / 2}, {2, columns / 2}}));
     EXPECT_EQ(s.boxes, columns / 5);
     EXPECT_EQ(s.boundary_boxes, 1);
@@ -201,6 +216,82 @@ TEST(StripStatistics, StraightBoundaryOnALineInClosedForm) {
     EXPECT_DOUBLE_EQ(s.boundary_dimension, 1.0 - s.uncertainty_exponent);
   }
   expect_same_for_strips(labels, shape);
+}
+
+// 1-D planes against the definitions, computed directly over whole rows (slice by slice, box by
+// box in order along the row, so the sums keep their bits): rows shorter than a box and than
+// 8 cells (no box, no ε), rows that are no multiple of 5, a continuation axis per slice, and a
+// row longer than the default segment of 2^20 cells.
+struct LineReference {
+  std::map<int, std::int64_t> cells;
+  std::int64_t boxes = 0, boundary_boxes = 0;
+  double sum = 0.0, boundary_sum = 0.0;
+  std::vector<std::int64_t> tested, uncertain;
+};
+
+LineReference line_reference(const std::vector<BasinLabel>& labels, std::int64_t slices, std::int64_t columns) {
+  LineReference r;
+  for (std::int64_t e = 1; 8 * e <= columns; e *= 2) r.tested.push_back(0), r.uncertain.push_back(0);
+  for (std::int64_t s = 0; s < slices; ++s) {
+    const BasinLabel* row = labels.data() + s * columns;
+    for (std::int64_t c = 0; c < columns; ++c) ++r.cells[row[c]];
+    for (std::int64_t c0 = 0; c0 + 5 <= columns; c0 += 5) {
+      std::map<int, int> in_box;
+      for (std::int64_t c = c0; c < c0 + 5; ++c) ++in_box[row[c]];
+      double entropy = 0.0;  // in the order the labels were met, as BoxCounts adds them
+      std::vector<int> met;
+      for (std::int64_t c = c0; c < c0 + 5; ++c)
+        if (std::find(met.begin(), met.end(), row[c]) == met.end()) met.push_back(row[c]);
+      for (int label : met) entropy -= in_box[label] / 5.0 * std::log(in_box[label] / 5.0);
+      r.sum += entropy, ++r.boxes;
+      if (met.size() > 1) r.boundary_sum += entropy, ++r.boundary_boxes;
+    }
+    std::size_t k = 0;
+    for (std::int64_t e = 1; 8 * e <= columns; e *= 2, ++k)
+      for (std::int64_t c = e; c < columns - e; ++c) {
+        ++r.tested[k];
+        r.uncertain[k] += row[c - e] != row[c] || row[c + e] != row[c];
+      }
+  }
+  return r;
+}
+
+void expect_line_reference(const std::vector<BasinLabel>& labels, std::int64_t slices, std::int64_t columns,
+                           std::int64_t segment) {
+  SCOPED_TRACE(testing::Message() << slices << " x " << columns << ", segment " << segment);
+  const LineReference r = line_reference(labels, slices, columns);
+  const BasinStatistics s =
+      strip_statistics({{slices, columns}, 1}, reader_of(labels), {-1, false, 0, segment}).whole;
+  EXPECT_EQ(s.cells, r.cells);
+  EXPECT_EQ(s.points, slices * columns);
+  EXPECT_EQ(s.boxes, r.boxes);
+  EXPECT_EQ(s.boundary_boxes, r.boundary_boxes);
+  if (r.boxes == 0) {
+    EXPECT_TRUE(std::isnan(s.basin_entropy));
+  } else {
+    EXPECT_TRUE(same_bits(s.basin_entropy, r.sum / static_cast<double>(r.boxes)));
+  }
+  if (r.boundary_boxes > 0) {
+    EXPECT_TRUE(same_bits(s.boundary_basin_entropy, r.boundary_sum / static_cast<double>(r.boundary_boxes)));
+  }
+  ASSERT_EQ(s.uncertain_fraction.size(), r.tested.size());
+  for (std::size_t k = 0; k < r.tested.size(); ++k)
+    EXPECT_TRUE(same_bits(s.uncertain_fraction[k],
+                          static_cast<double>(r.uncertain[k]) / static_cast<double>(r.tested[k])))
+        << k;
+}
+
+TEST(StripStatistics, OneDimensionalPlaneAgainstTheDefinitions) {
+  for (std::int64_t columns : {1, 3, 4, 5, 7, 8, 9, 16, 17, 203, 1023}) {
+    const std::vector<BasinLabel> labels = mixed_map(3 * columns, columns, 4, 7);
+    for (std::int64_t segment : {0, 1, 2, 5, 7, 64}) expect_line_reference(labels, 3, columns, segment);
+  }
+  // The production layout of a continuation along a line: the parameter first, per slice.
+  expect_same_for_strips(mixed_map(7 * 1015, 1015, 3, 8), {{7, 1015}, 1}, 0);
+  // Longer than the default segment (2^20 cells): the default path cuts it.
+  const std::int64_t long_row = (std::int64_t{1} << 20) + 13;
+  const std::vector<BasinLabel> labels = mixed_map(long_row, long_row, 3, 9);
+  expect_line_reference(labels, 1, long_row, 0);
 }
 
 TEST(StripStatistics, TwoDimensionalPlaneWithUndecidedCells) {

@@ -204,26 +204,32 @@ class StripPass {
 
   // A 1-D plane (one slice's row of columns_ cells), a segment of cells at a time: its boxes of
   // 5 cells whose first cell is in the segment, in order along the row (so the entropies keep
-  // their sum's bits), and for each ε its cells' neighbours ε to the left and right, read again
-  // where the segment and its box halo do not hold them.
+  // their sum's bits), and for each ε its cells' neighbours ε to the left and right. Each
+  // segment is read once with a reach of up to a segment on either side (and the 4 cells its last
+  // box needs), which holds the neighbours of every ε up to that reach: the row is read about 3
+  // times, not once per ε. Only an ε beyond the reach (segments shorter than the largest ε)
+  // reads its neighbours again.
   void line(std::int64_t s) {
     Tally* mine = per_slice_.empty() ? nullptr : &per_slice_[static_cast<std::size_t>(s)];
     const std::int64_t row = s * columns_;
-    std::vector<BasinLabel> segment, left, right;
+    const std::int64_t reach = eps_.empty() ? 0 : std::min<std::int64_t>(segment_, eps_.back());
+    std::vector<BasinLabel> window, left, right;
     for (std::int64_t first = 0; first < columns_; first += segment_) {
       const std::int64_t end = std::min(columns_, first + segment_);
-      const std::int64_t held = std::min(columns_, end + kBox - 1);  // the last box's cells
-      read_cells(row + first, row + held, segment);
-      count_cells(segment.data(), row + first, row + end, mine);
+      const std::int64_t lo = std::max<std::int64_t>(0, first - reach);
+      const std::int64_t hi = std::min(columns_, end + std::max(reach, kBox - 1));
+      read_cells(row + lo, row + hi, window);
+      const BasinLabel* segment = window.data() + (first - lo);
+      count_cells(segment, row + first, row + end, mine);
       for (std::int64_t c0 = (first + kBox - 1) / kBox * kBox; c0 < end && c0 + kBox <= columns_; c0 += kBox) {
         BoxCounts box;
-        for (std::int64_t c = c0; c < c0 + kBox; ++c) box.add(segment[static_cast<std::size_t>(c - first)]);
+        for (std::int64_t c = c0; c < c0 + kBox; ++c) box.add(segment[c - first]);
         add_box(box, box.entropy(static_cast<int>(kBox)), mine);
       }
-      // Cells [a, b) of the row: from the segment when it holds them, else read into `scratch`.
+      // Cells [a, b) of the row: from the window when it holds them, else read into `scratch`.
       const auto cells_at = [&](std::int64_t a, std::int64_t b,
                                 std::vector<BasinLabel>& scratch) -> const BasinLabel* {
-        if (a >= first && b <= held) return segment.data() + (a - first);
+        if (a >= lo && b <= hi) return window.data() + (a - lo);
         read_cells(row + a, row + b, scratch);
         return scratch.data();
       };
@@ -231,7 +237,7 @@ class StripPass {
         const std::int64_t eps = eps_[k];
         const std::int64_t from = std::max(first, eps), to = std::min(end, columns_ - eps);
         if (from >= to) continue;
-        const BasinLabel* here = segment.data() + (from - first);
+        const BasinLabel* here = segment + (from - first);
         const BasinLabel* before = cells_at(from - eps, to - eps, left);
         const BasinLabel* after = cells_at(from + eps, to + eps, right);
         std::int64_t uncertain = 0;

@@ -200,9 +200,11 @@ double summary_bytes_on_rank0(const RunPlan& whole) {
   if (shape.plane_axes == 0)
     return static_cast<double>(std::min<std::int64_t>(kStripCells, whole.grid.size())) * sizeof(BasinLabel);
   const auto columns = shape.dims.back();
-  // A 1-D plane's segment with its box's 4 cells beyond, and its ε neighbours on either side.
+  // A 1-D plane's segment read with a segment's reach on either side and its last box's 4 cells
+  // beyond, and the neighbours of an ε beyond that reach on either side (strip_statistics.cpp).
   if (shape.plane_axes == 1)
-    return static_cast<double>(std::min(columns, kStripCells + 4)) * 3 * sizeof(BasinLabel);
+    return static_cast<double>(std::min(columns, 3 * kStripCells + 4) + 2 * std::min(columns, kStripCells)) *
+           sizeof(BasinLabel);
   const std::int64_t rows = shape.dims[shape.dims.size() - 2];
   const std::int64_t strip = std::max<std::int64_t>(1, kStripCells / columns);
   // A band and its halos (strip_statistics.cpp): its labels and the two bands ε above and below
