@@ -6,10 +6,15 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "numerics/method_list.hpp"
+#include "engine/mappers/energy_trap.hpp"
 #include "engine/run_plan.hpp"
+#include "io/spec_parser.hpp"
+#include "numerics/method_catalog.hpp"
+#include "physics/scene_catalog.hpp"
 #include "io/linspace.hpp"
 #include "physics/double_well.hpp"
 #include "physics/energy_wells.hpp"
@@ -286,6 +291,44 @@ TEST(BasinTrap, TheBoxGrowsUntilVOnItsBoundaryIsAboveTheInitialEnergy) {
   const Wells<1> own = find_wells<DoubleWell>(c, box, 0.01);
   ASSERT_EQ(own.minima.size(), 1u);
   EXPECT_NEAR(own.minima[0][0], 1.0, 1e-12);
+}
+
+// The energy trap's wells are kept once per process and shared by the runs whose wells are the
+// same: they are keyed on what the box depends on, among it the kinetic part of the largest
+// initial energy E0 (each p's largest p²/2), not on the grid's p values themselves. One q0 = 2
+// with p0 up to 0.1 (E0 = 4.505: the box [−6, 10], as above) or up to 40 (E0 = 804.5: the box
+// [−14, 18]) gives another box, and so another confinement (E below it never reaches the box's
+// boundary: V's least value there less 1 % of its range), which decides_alone reads; p0 in
+// {40, 0, −40} has the same E0 as ±40 and shares its wells. Each trap must see its own grid's
+// confinement, in whichever order the runs come.
+TEST(BasinTrap, RunsShareTheWellsOnlyWhereTheirInitialEnergiesAgree) {
+  const double gamma = 0.4375;  // no other test's: the process-wide wells start empty for it
+  const ParamsOf<DoubleWell, double> c{1.0, gamma};
+  const auto confinement = [&](double p_max) {
+    BasinBox<1> point;
+    point.lo[0] = point.hi[0] = 2.0;
+    const double e0 = 0.5 * p_max * p_max + 4.5;  // V(2) = (4 − 1)²/2
+    return find_wells<DoubleWell>(c, confining_box<DoubleWell>(c, point, {0.5}, e0, 0.01), 0.01).confinement;
+  };
+  ASSERT_NEAR(confinement(0.1), 612.5 - 0.01 * (4900.5 - 612.5), 1e-9);
+  ASSERT_NEAR(confinement(40.0), 19012.5 - 0.01 * (52164.5 - 19012.5), 1e-9);
+  for (const char* p_axis : {"[-0.1, 0.1]", "[-40.0, 40.0]", "[40.0, 0.0, -40.0]", "[0.1, -0.1]"}) {
+    SCOPED_TRACE(p_axis);
+    const std::string text = "[scene]\nname = \"double_well\"\na = 1.0\ngamma = 0.4375\n[initial]\nq = 2.0\n"
+                             "[integrator]\nh = 0.01\nt_end = 10.0\n[grid]\np_0 = { values = " +
+                             std::string(p_axis) + " }\n[measures]\nbasin = {}\n";
+    const RunSpec spec = parse_run_spec(text, {}, "test spec");
+    const RunPlan plan(spec, *find_scene(spec.scene), *find_method(spec.method));
+    const EnergyTrap<DoubleWell, true, 64> trap(plan, true, LaneClock{0.0, 0.01}, c);
+    ASSERT_TRUE(trap.active());
+    const double level = confinement(std::string(p_axis).find("40") != std::string::npos ? 40.0 : 0.1);
+    for (double e : {level * (1.0 - 1e-9), level * (1.0 + 1e-9)}) {
+      LaneState<1> x{};
+      x.q[0] = 0.0;  // V(0) = 0.5: E = 0.5 + p²/2
+      x.p[0] = std::sqrt(2.0 * (e - 0.5));
+      EXPECT_EQ(trap.decides_alone(x, c), e < level) << "E " << e << ", confinement " << level;
+    }
+  }
 }
 
 // Maps whose positions do not span the wells: one point (q0, p0) = (2, 0), and q0 ∈ [1.5, 2.5].
