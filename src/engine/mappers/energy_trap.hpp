@@ -12,6 +12,7 @@
 #include <cstring>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <utility>
@@ -237,20 +238,22 @@ class EnergyTrap {
   // grid has few distinct parameter sets. The box depends on c, the positions, h and E₀ alone,
   // and E₀ on c, the kinetic part and the q axes' values (none when their combinations are too
   // many: E₀ is then +∞): those are the key, and E₀ is computed once per entry (it visits
-  // every combination of the q axes' values; per block it cost seconds on a 512² map).
+  // every combination of the q axes' values; per block it cost seconds on a 512² map). The
+  // entries of one grid (a parameter axis: one entry per value) share one copy of its q values.
   [[gnu::cold]] const Wells<D>& wells_for(const Params& c) const {
+    using Values = std::shared_ptr<const std::vector<double>>;
     struct Known {
       Params params;
       BasinBox<D> positions;
       std::array<double, D> widen;
       double kinetic;
       bool q_unbounded;
-      std::vector<double> q_values[D];  // empty when q_unbounded
+      Values q_values[D];  // null when q_unbounded
       double h;
       Wells<D> wells;
     };
-    auto same = [](const std::vector<double>& a, std::span<const double> b) {
-      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+    auto same = [](const Values& a, std::span<const double> b) {
+      return a && a->size() == b.size() && std::memcmp(a->data(), b.data(), b.size() * sizeof(double)) == 0;
     };
     static std::mutex mutex;
     static std::deque<Known> known;
@@ -266,8 +269,15 @@ class EnergyTrap {
     const double e0 = largest_initial_energy(c);
     const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
     Known k{c, positions_, widen_, kinetic_, q_unbounded_, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
-    if (!q_unbounded_)
-      for (int d = 0; d < D; ++d) k.q_values[d].assign(q_values_[d].begin(), q_values_[d].end());
+    for (int d = 0; d < D && !q_unbounded_; ++d) {
+      for (const Known& other : known)
+        if (same(other.q_values[d], q_values_[d])) {
+          k.q_values[d] = other.q_values[d];
+          break;
+        }
+      if (!k.q_values[d])
+        k.q_values[d] = std::make_shared<const std::vector<double>>(q_values_[d].begin(), q_values_[d].end());
+    }
     return known.emplace_back(std::move(k)).wells;
   }
 
