@@ -221,7 +221,8 @@ class StripPass {
       read_cells(row + lo, row + hi, window);
       const BasinLabel* segment = window.data() + (first - lo);
       count_cells(segment, row + first, row + end, mine);
-      for (std::int64_t c0 = (first + kBox - 1) / kBox * kBox; c0 < end && c0 + kBox <= columns_; c0 += kBox) {
+      const std::int64_t first_box = (first + kBox - 1) / kBox * kBox;
+      for (std::int64_t c0 = first_box; c0 < end && c0 + kBox <= columns_; c0 += kBox) {
         BoxCounts box;
         for (std::int64_t c = c0; c < c0 + kBox; ++c) box.add(segment[c - first]);
         add_box(box, box.entropy(static_cast<int>(kBox)), mine);
@@ -241,7 +242,8 @@ class StripPass {
         const BasinLabel* before = cells_at(from - eps, to - eps, left);
         const BasinLabel* after = cells_at(from + eps, to + eps, right);
         std::int64_t uncertain = 0;
-        for (std::int64_t i = 0; i < to - from; ++i) uncertain += before[i] != here[i] || after[i] != here[i];
+        for (std::int64_t i = 0; i < to - from; ++i)
+          uncertain += before[i] != here[i] || after[i] != here[i];
         add_uncertain(k, to - from, uncertain, mine);
       }
     }

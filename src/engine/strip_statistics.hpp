@@ -1,10 +1,11 @@
 // The statistics of a basin map (basin_statistics.hpp), read a band of rows at a time (a 1-D
-// plane: a segment of its cells at a time), so that the process that computes them holds O(band), not O(map): rank 0 reads the labels back from
-// the output file it has just written them to (parallel/basin_summary.cpp). The numbers do not
-// depend on the band height, bit for bit: every count is an integer (cells per label, uncertain
-// cells per ε, the Wada test's cells), and the one sum of doubles, the boxes' entropies, is
-// added box by box in one order (slice, row of boxes, column) whatever the cut. A map held in
-// memory is read through a reader over its array (tests/basin_maps.hpp).
+// plane: a segment of its cells at a time), so that the process that computes them holds
+// O(band), not O(map): rank 0 reads the labels back from the output file it has just written
+// them to (parallel/basin_summary.cpp). The numbers do not depend on the band height, bit for
+// bit: every count is an integer (cells per label, uncertain cells per ε, the Wada test's
+// cells), and the one sum of doubles, the boxes' entropies, is added box by box in one order
+// (slice, row of boxes, column) whatever the cut. A map held in memory is read through a reader
+// over its array (tests/basin_maps.hpp).
 #pragma once
 
 #include <cstdint>
