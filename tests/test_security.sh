@@ -214,6 +214,46 @@ modes=$(stat -c %a cache_u $(ls cache_u/kernel-*.so) | sort -u | tr '\n' ' ')
 [[ $modes == "600 700 " || $modes == "700 600 " ]] && ok "under umask 000 the cache is 0700 and its library 0600" ||
   bad "under umask 000" "modes: $modes"
 
+# The cache's parent swapped while the kernel compiles, as another user who can rename a parent
+# (of a group-writable project directory, say) would: a link in its place to a tree of theirs,
+# whose build directory of the same name holds their source. The compiler runs in the build
+# directory it was handed by descriptor, with names relative to it, so it never reads through
+# the swapped path. This "compiler" swaps the parent, compiles, then puts the parent back.
+rm -rf swap && mkdir -p swap/parent swap/evil/cache && mkdir -m 0700 swap/parent/cache && chmod 0700 swap/evil/cache
+cat >swapping_cxx <<EOF
+#!/bin/bash
+case "\$*" in *--version*) exec g++ --version ;; esac
+build=\$(basename "\$(ls -d $work/swap/parent/cache/build.* | head -1)")
+mkdir -p $work/swap/evil/cache/\$build
+echo '#error "the source planted under the swapped path was compiled"' >$work/swap/evil/cache/\$build/kernel.cpp
+mv $work/swap/parent $work/swap/parent.real && ln -s $work/swap/evil $work/swap/parent
+g++ "\$@"
+rc=\$?
+rm $work/swap/parent && mv $work/swap/parent.real $work/swap/parent
+exit \$rc
+EOF
+chmod +x swapping_cxx
+CONTACTSWEEP_CXX=$work/swapping_cxx CONTACTSWEEP_CACHE=$work/swap/parent/cache "$bin" run k.toml -o swap.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 swap.h5 && [[ -n $(ls swap/parent/cache/kernel-*.so 2>/dev/null) ]] &&
+  ok "the cache's parent swapped during the build: the planted source is never compiled (same bits)" ||
+  bad "the cache's parent swapped during the build" "exit $rc"
+
+# GCC's search variables in the user's environment (a module system may point them at shared
+# directories, and the kernel's key does not cover them) do not reach the compiler: an `as`
+# planted on COMPILER_PATH and GCC_EXEC_PREFIX, headers on CPATH and CPLUS_INCLUDE_PATH, a
+# relative PATH entry.
+rm -rf planted && mkdir -p planted/bin planted/include && rm -rf cache_e && mkdir -m 0700 cache_e
+printf '#!/bin/sh\necho ran >%s/planted/AS_RAN\nexit 1\n' "$work" >planted/bin/as && chmod +x planted/bin/as
+for h in memory cmath; do echo '#error "a header on the include path variables was compiled in"' >planted/include/$h; done
+COMPILER_PATH=$work/planted/bin GCC_EXEC_PREFIX=$work/planted/bin/ CPATH=$work/planted/include \
+  CPLUS_INCLUDE_PATH=$work/planted/include PATH=".:$PATH" CONTACTSWEEP_CACHE=$work/cache_e \
+  "$bin" run k.toml -o env.h5 --quiet 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 env.h5 && [[ ! -e planted/AS_RAN ]] &&
+  ok "COMPILER_PATH, GCC_EXEC_PREFIX, CPATH and CPLUS_INCLUDE_PATH never reach the compiler (same bits)" ||
+  bad "GCC's search variables reach the compiler" "exit $rc"
+
 # ---- as other users: a second uid plants, a third runs ------------------------------------------
 if ((EUID != 0)) || ! command -v useradd >/dev/null || ! command -v setpriv >/dev/null; then
   skip "cases planted by another user" "needs root to create the users"
@@ -282,6 +322,36 @@ rc=$?
 ((rc == 2)) && [[ -f $shared/map.h5.journal/block_0.bin && ! -e $shared/map.h5 ]] && grep -q "belongs to user id $auid" stderr &&
   ok "a journal another user made first is refused (exit 2), its files untouched" ||
   bad "a journal another user made first" "exit $rc"
+
+# Another user's file under the output's name, holding the spec's own text (anyone who can read
+# the spec can make one): never taken as the victim's finished run. With --resume it is refused,
+# not reported complete; after the victim's run was killed, a plain rerun is refused too, and
+# the victim's journal, which "complete" would have removed, stays.
+vcache=$work/victim_home/.cache/contactsweep
+as cs-sec-attacker cp "$shared/ref.h5" "$shared/forged.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml -o forged.h5 --resume --quiet) 2>stderr
+rc=$?
+((rc == 2)) && grep -q "belongs to user id $auid" stderr &&
+  ok "--resume over another user's output of the same spec is refused (exit 2), not taken as done" ||
+  bad "--resume over another user's output of the same spec" "exit $rc"
+big=(--set grid.q_0.n=64 --set grid.p_0.n=16)
+"$bin" run k.toml "${big[@]}" -o "$work/big_ref.h5" --quiet 2>stderr || bad "the reference of the interrupted run"
+chmod 644 "$work/big_ref.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" CONTACTSWEEP_TEST_KILL=block:2 "$bin" run k.toml "${big[@]}" -o job.h5 --quiet) 2>/dev/null
+journal_blocks=$(ls "$shared/job.h5.journal" 2>/dev/null | grep -c block)
+as cs-sec-attacker cp "$work/big_ref.h5" "$shared/job.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml "${big[@]}" -o job.h5 --quiet) 2>stderr
+rc=$?
+left=$(ls "$shared/job.h5.journal" 2>/dev/null | grep -c block)
+((rc == 2 && journal_blocks > 0 && left == journal_blocks)) && grep -q "belongs to user id $auid" stderr &&
+  ok "after a killed run, another user's output of the same spec is refused (exit 2), the journal kept ($left blocks)" ||
+  bad "another user's output after a killed run" "exit $rc, journal $journal_blocks -> $left blocks"
+as cs-sec-attacker rm -f "$shared/job.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml "${big[@]}" -o job.h5 --resume --quiet) 2>stderr
+rc=$?
+((rc == 0)) && same "$work/big_ref.h5" "$shared/job.h5" && [[ $(stat -c %u "$shared/job.h5") == "$vuid" ]] &&
+  ok "that output moved away, --resume finishes the victim's run from its journal (same bits)" ||
+  bad "--resume after the planted output was moved away" "exit $rc"
 
 # Another user's link as OUT.h5.partial in a sticky directory: the victim cannot remove it, so
 # the run is refused; the link's target (the victim's own file) is untouched.

@@ -1,8 +1,15 @@
 #include "io/output_inspect.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <vector>
+
+#include <fmt/format.h>
 
 namespace cs {
 
@@ -35,6 +42,30 @@ std::optional<std::string> read_spec_attribute(const std::string& path) {
   }
   H5Fclose(file);
   return result;
+}
+
+ExistingOutput inspect_existing_output(const std::string& path) {
+  ExistingOutput out;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int error = errno;
+    struct stat link {};
+    out.why_not = ::lstat(path.c_str(), &link) == 0 && S_ISLNK(link.st_mode)
+                      ? "is a symbolic link"
+                      : fmt::format("cannot be opened ({})", std::strerror(error));
+    return out;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    out.why_not = "is not a regular file";
+  } else if (st.st_uid != ::geteuid()) {
+    out.why_not = fmt::format("belongs to user id {}, not to you", st.st_uid);
+  } else {
+    out.ours = true;
+    out.spec = read_spec_attribute(fmt::format("/proc/self/fd/{}", fd));  // the file checked
+  }
+  ::close(fd);
+  return out;
 }
 
 }  // namespace cs

@@ -11,4 +11,16 @@ namespace cs {
 // contactsweep output. Serial HDF5, any rank.
 std::optional<std::string> read_spec_attribute(const std::string& path);
 
+// An existing output as this user's finished work. Only a regular file the user owns counts,
+// opened without following a link and read through that descriptor: a file another user put
+// under the output's name (in a shared directory), or a link, says nothing of what this user
+// ran, whatever its `spec` attribute says (a spec's text is no secret), so it is never taken as
+// a finished run, which would report its numbers and remove the journal of the real one.
+struct ExistingOutput {
+  bool ours = false;
+  std::string why_not;              // when not ours: "is a symbolic link", "belongs to user id N", ...
+  std::optional<std::string> spec;  // when ours: its `spec` attribute, if it has one
+};
+ExistingOutput inspect_existing_output(const std::string& path);
+
 }  // namespace cs

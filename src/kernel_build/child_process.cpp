@@ -9,25 +9,63 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
 extern char** environ;
 
 namespace cs {
+namespace {
+
+// The variables GCC's driver, preprocessor and linker read to find files (GCC's manual,
+// "Environment Variables Affecting GCC"), and their dependency outputs.
+constexpr const char* kCompilerSearchVariables[] = {
+    "CPATH",          "C_INCLUDE_PATH",      "CPLUS_INCLUDE_PATH", "OBJC_INCLUDE_PATH",
+    "GCC_EXEC_PREFIX", "COMPILER_PATH",      "LIBRARY_PATH",       "DEPENDENCIES_OUTPUT",
+    "SUNPRO_DEPENDENCIES", "GCC_COMPARE_DEBUG", "LD_RUN_PATH"};
+
+std::string name_of(const std::string& entry) { return entry.substr(0, entry.find('=')); }
+
+// PATH's absolute entries: an empty or relative one names the directory the compiler runs in.
+std::string absolute_entries(const std::string& path) {
+  std::string kept;
+  std::size_t begin = 0;
+  while (begin <= path.size()) {
+    const std::size_t end = std::min(path.find(':', begin), path.size());
+    const std::string dir = path.substr(begin, end - begin);
+    if (!dir.empty() && dir[0] == '/') kept += (kept.empty() ? "" : ":") + dir;
+    begin = end + 1;
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<std::string> compiler_environment() {
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry = *e;
+    const std::string name = name_of(entry);
+    if (std::any_of(std::begin(kCompilerSearchVariables), std::end(kCompilerSearchVariables),
+                    [&](const char* v) { return name == v; }))
+      continue;
+    env.push_back(name == "PATH" ? "PATH=" + absolute_entries(entry.substr(5)) : entry);
+  }
+  return env;
+}
 
 int run_program(const std::vector<std::string>& args, int output_fd,
-                const std::vector<std::string>& extra_env) {
+                const std::vector<std::string>& extra_env, int directory_fd) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   std::vector<std::string> env_text(extra_env);
-  for (char** e = environ; *e != nullptr; ++e) {
-    const std::string entry = *e;
-    const bool overridden = std::any_of(extra_env.begin(), extra_env.end(), [&](const auto& x) {
-      return entry.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0;
-    });
+  for (const std::string& entry : compiler_environment()) {
+    const bool overridden = std::any_of(extra_env.begin(), extra_env.end(),
+                                        [&](const auto& x) { return name_of(x) == name_of(entry); });
     if (!overridden) env_text.push_back(entry);
   }
   std::vector<char*> envp;
@@ -50,6 +88,11 @@ int run_program(const std::vector<std::string>& args, int output_fd,
     if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
     ::dup2(output_fd, 1);
     ::dup2(output_fd, 2);
+    if (directory_fd >= 0 && ::fchdir(directory_fd) != 0) {
+      const int error = errno;
+      [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);
+      ::_exit(127);
+    }
     ::execvpe(argv[0], argv.data(), envp.data());
     const int error = errno;
     [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);

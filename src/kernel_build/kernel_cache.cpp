@@ -326,12 +326,15 @@ BuiltKernel build_kernel(const std::string& source) {
   args.insert(args.end(), tc.flags.begin(), tc.flags.end());
   args.push_back("-I" + tc.include_dir);
   for (const auto& d : tc.system_include_dirs) args.push_back("-isystem" + d);
-  args.insert(args.end(), {"-o", work.path_of("kernel.so"), work.path_of("kernel.cpp")});
+  // Run in the build directory, entered by its descriptor, with names relative to it: a path
+  // through the cache's parents would let anyone who can rename one of them hand the compiler
+  // their source, or the assembler their code, between our checks and its reads.
+  args.insert(args.end(), {"-o", "kernel.so", "kernel.cpp"});
   args.insert(args.end(), tc.link_inputs.begin(), tc.link_inputs.end());
   const auto start = std::chrono::steady_clock::now();
   int status = 0;
   try {
-    status = run_program(args, log_fd, {"TMPDIR=" + work.path()});  // its temporaries too
+    status = run_program(args, log_fd, {"TMPDIR=."}, work.fd());  // its temporaries there too
   } catch (...) {
     ::close(log_fd);
     throw;

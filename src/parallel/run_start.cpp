@@ -1,9 +1,11 @@
 #include "parallel/run_start.hpp"
 
 #include <fmt/core.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "io/output_inspect.hpp"
 #include "mpi/agreement.hpp"
@@ -33,6 +35,14 @@ void check_output_path(const SweepOptions& options) {
   if (!fs::is_directory(directory, error) || ::access(directory.c_str(), W_OK) != 0)
     throw InputError("cannot write the output '" + options.output + "': directory '" +
                      directory.string() + "' is missing or not writable");
+  // In a sticky directory (/tmp, a shared scratch) only a file's owner (or the directory's)
+  // may replace it: refused now rather than when the finished run is put in place.
+  struct stat file {}, dir {};
+  if (::lstat(options.output.c_str(), &file) == 0 && file.st_uid != ::geteuid() && ::geteuid() != 0 &&
+      ::stat(directory.c_str(), &dir) == 0 && (dir.st_mode & S_ISVTX) != 0 && dir.st_uid != ::geteuid())
+    throw InputError(fmt::format("output '{}' belongs to user id {} in a directory with the sticky "
+                                 "bit ('{}'), where only its owner may replace it; name another file",
+                                 options.output, file.st_uid, directory.string()));
 }
 
 // Rank 0 only, with the journal locked. Throws InputError when the user must choose.
@@ -40,14 +50,22 @@ StartDecision decide_start(const RunSpec& spec, const SweepOptions& options, Jou
                            const std::string& run_id) {
   if (options.force) return {Start::fresh, true, false, 0};
   const JournalContents j = journal.inspect();
-  const bool output_exists = std::filesystem::exists(options.output);
-  auto output_made_by_this_spec = [&] {
-    const auto text = read_spec_attribute(options.output);
-    return text && *text == spec.spec_text;
+  const bool output_exists = std::filesystem::exists(std::filesystem::symlink_status(options.output));
+  // Read only once the output is known to be the user's own (inspect_existing_output says why).
+  std::optional<ExistingOutput> existing;
+  auto inspected = [&]() -> const ExistingOutput& {
+    if (!existing) existing = inspect_existing_output(options.output);
+    return *existing;
   };
+  auto output_made_by_this_spec = [&] { return inspected().ours && inspected().spec == spec.spec_text; };
   const std::string saved = fmt::format("{} block(s) saved", j.block_files);
 
   if (j.manifest && j.manifest->run_id == run_id) {  // this very run, interrupted
+    if (output_exists && !j.manifest->replaces_output && !inspected().ours)
+      throw InputError("output '" + options.output + "' " + inspected().why_not +
+                       ": it is not taken as this run's result; move it away, then --resume "
+                       "finishes the run from its journal '" + journal.directory() + "' (" +
+                       saved + ")");
     // Killed after its commit, unless the run was started to replace that very file (--force
     // over an output of the same spec, say from another build): then the file may be the old
     // one, and finishing from the journal is the only safe reading.
@@ -72,6 +90,10 @@ StartDecision decide_start(const RunSpec& spec, const SweepOptions& options, Jou
     // A journal holding neither manifest nor block is what a kill during an earlier run's
     // removal leaves: debris, removed with it. Another run's journal stays.
     const bool debris = j.directory_exists && !j.manifest && j.block_files == 0;
+    if (!inspected().ours)
+      throw InputError("--resume: output '" + options.output + "' " + inspected().why_not +
+                       ", so it is not taken as a finished run; name another file, or pass "
+                       "--force to replace it");
     if (output_made_by_this_spec()) return {Start::complete, false, debris, 0};
     throw InputError("--resume: output '" + options.output +
                      "' was not made by this spec (after --set); pass --force to replace it");
