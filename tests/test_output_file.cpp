@@ -507,7 +507,7 @@ TEST(OutputFile, InvalidLayoutsAreRejected) {
   wide_flag.datasets[3].flag_values.push_back(300);  // status is uint8
   EXPECT_THROW(OutputFile(path, wide_flag), std::runtime_error);
   FileLayout empty_axis = grid_layout();
-  empty_axis.axes[1].values.clear();
+  empty_axis.axes[1].values = std::vector<double>{};
   EXPECT_THROW(OutputFile(path, empty_axis), std::runtime_error);
   EXPECT_FALSE(exists(path));
   EXPECT_FALSE(exists(path + ".partial"));

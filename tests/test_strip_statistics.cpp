@@ -15,6 +15,7 @@
 
 #include "basin_maps.hpp"
 #include "engine/strip_statistics.hpp"
+#include "parallel/basin_summary.hpp"
 
 namespace cs {
 namespace {
@@ -292,6 +293,44 @@ TEST(StripStatistics, OneDimensionalPlaneAgainstTheDefinitions) {
   const std::int64_t long_row = (std::int64_t{1} << 20) + 13;
   const std::vector<BasinLabel> labels = mixed_map(long_row, long_row, 3, 9);
   expect_line_reference(labels, 1, long_row, 0);
+}
+
+// What the statistics hold at once (their buffers' capacities) is what the memory check counts
+// for them on rank 0 (summary_bytes_on_rank0), and no more than the reads need. A 1-D plane:
+// a segment of 2^20 cells with a reach of the largest ε (8ε within the row) on either side; a
+// segment shorter than ε reads that ε's neighbours into two buffers of a segment each. A 2-D
+// plane: a band and its halos.
+TEST(StripStatistics, HoldsWhatTheMemoryCheckCounts) {
+  const std::int64_t segment = std::int64_t{1} << 20;
+  struct Line {
+    std::int64_t columns, largest_eps, most;
+  };
+  for (const Line& line : {Line{1023, 64, 1023},  // the whole row, shorter than a segment
+                           Line{segment + 13, segment / 8, segment + 13},  // the reach passes its end
+                           Line{3 * segment + 7, segment / 4, segment + 2 * (segment / 4)}}) {
+    SCOPED_TRACE(line.columns);
+    ASSERT_LE(8 * line.largest_eps, line.columns);
+    ASSERT_GT(16 * line.largest_eps, line.columns);
+    const BasinMapShape shape{{line.columns}, 1};
+    const MapStatistics s = strip_statistics(shape, reader_of(mixed_map(line.columns, line.columns, 3, 9)));
+    EXPECT_EQ(s.most_cells_held, line.most);
+    EXPECT_LE(static_cast<double>(s.most_cells_held) * sizeof(BasinLabel), summary_bytes_on_rank0(shape));
+  }
+  // Segments of 6 cells on a row of 1004: a window of 6 + 2·6, and ε up to 64 read beside it.
+  const std::vector<BasinLabel> row = mixed_map(1004, 1004, 3, 4);
+  EXPECT_EQ(strip_statistics({{1004}, 1}, reader_of(row), {-1, false, 0, 6}).most_cells_held, 5 * 6);
+  // A 2-D plane within one band: held whole, once.
+  const BasinMapShape plane{{97, 83}, 2};
+  const MapStatistics p = strip_statistics(plane, reader_of(mixed_map(97 * 83, 83, 3, 1)));
+  EXPECT_EQ(p.most_cells_held, 97 * 83);
+  EXPECT_LE(static_cast<double>(p.most_cells_held) * sizeof(BasinLabel), summary_bytes_on_rank0(plane));
+  // Bands of 10 rows of a 300 × 40 plane (ε = 1, 2, 4): the band and the 4 rows below it its
+  // boxes reach, which also hold the rows ε below; the rows ε above it, read (10 rows); then
+  // the Wada pass's band, 10 rows and their halos, held alone.
+  const MapStatistics b = strip_statistics({{300, 40}, 2}, reader_of(mixed_map(300 * 40, 40, 3, 2)),
+                                           {-1, false, 10, 0});
+  EXPECT_EQ(b.most_cells_held,
+            std::max<std::int64_t>((10 + 4 + 10) * 40, std::min<std::int64_t>(300, 10 + 2 * wada_detail::kHalo) * 40));
 }
 
 TEST(StripStatistics, TwoDimensionalPlaneWithUndecidedCells) {

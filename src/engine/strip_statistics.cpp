@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -159,6 +160,7 @@ class StripPass {
       for (std::int64_t s = 0; s < slices_; ++s) slice(s);
     }
     MapStatistics out;
+    out.most_cells_held = most_held_;
     out.whole = finish(whole_, shape_.plane_axes, eps_);
     for (const Tally& t : per_slice_) out.per_slice.push_back(finish(t, shape_.plane_axes, eps_));
     for (std::size_t v = 0; v < along_.size(); ++v) {
@@ -175,9 +177,24 @@ class StripPass {
   std::int64_t flat(std::int64_t slice, std::int64_t row) const { return (slice * rows_ + row) * columns_; }
 
   // Rows [first, end) of a slice, into `band`.
-  void read_rows(std::int64_t slice, std::int64_t first, std::int64_t end, std::vector<BasinLabel>& band) const {
-    band.resize(static_cast<std::size_t>((end - first) * columns_));
+  void read_rows(std::int64_t slice, std::int64_t first, std::int64_t end, std::vector<BasinLabel>& band) {
+    fit(band, (end - first) * columns_);
     if (end > first) read_(flat(slice, first), flat(slice, end), band.data());
+  }
+
+  // `cells` resized to n, its capacity n when it grows: a vector grown by resize() may double
+  // its capacity, and the memory check counts each buffer at the most it is asked to hold
+  // (summary_bytes_on_rank0). The old contents are not kept: every caller reads over them.
+  static void fit(std::vector<BasinLabel>& cells, std::int64_t n) {
+    if (static_cast<std::size_t>(n) > cells.capacity()) std::vector<BasinLabel>().swap(cells);
+    cells.resize(static_cast<std::size_t>(n));
+  }
+
+  // The labels the buffers hold at once, as their capacities (MapStatistics::most_cells_held).
+  void note_held(std::initializer_list<const std::vector<BasinLabel>*> buffers) {
+    std::size_t cells = 0;
+    for (const auto* b : buffers) cells += b->capacity();
+    most_held_ = std::max(most_held_, static_cast<std::int64_t>(cells));
   }
 
   void count_cells(const BasinLabel* labels, std::int64_t begin, std::int64_t end, Tally* slice) {
@@ -196,7 +213,8 @@ class StripPass {
     std::vector<BasinLabel> chunk;
     for (std::int64_t begin = 0; begin < points; begin += kStripCells) {
       const std::int64_t end = std::min(points, begin + kStripCells);
-      chunk.resize(static_cast<std::size_t>(end - begin));
+      fit(chunk, end - begin);
+      note_held({&chunk});
       read_(begin, end, chunk.data());
       count_cells(chunk.data(), begin, end, per_slice_.empty() ? nullptr : &per_slice_[0]);
     }
@@ -219,6 +237,7 @@ class StripPass {
       const std::int64_t lo = std::max<std::int64_t>(0, first - reach);
       const std::int64_t hi = std::min(columns_, end + std::max(reach, kBox - 1));
       read_cells(row + lo, row + hi, window);
+      note_held({&window, &left, &right});
       const BasinLabel* segment = window.data() + (first - lo);
       count_cells(segment, row + first, row + end, mine);
       const std::int64_t first_box = (first + kBox - 1) / kBox * kBox;
@@ -232,6 +251,7 @@ class StripPass {
                                 std::vector<BasinLabel>& scratch) -> const BasinLabel* {
         if (a >= lo && b <= hi) return window.data() + (a - lo);
         read_cells(row + a, row + b, scratch);
+        note_held({&window, &left, &right});
         return scratch.data();
       };
       for (std::size_t k = 0; k < eps_.size(); ++k) {
@@ -250,8 +270,8 @@ class StripPass {
   }
 
   // Cells [begin, end) of the flat grid, into `cells`.
-  void read_cells(std::int64_t begin, std::int64_t end, std::vector<BasinLabel>& cells) const {
-    cells.resize(static_cast<std::size_t>(end - begin));
+  void read_cells(std::int64_t begin, std::int64_t end, std::vector<BasinLabel>& cells) {
+    fit(cells, end - begin);
     if (end > begin) read_(begin, end, cells.data());
   }
 
@@ -282,6 +302,7 @@ class StripPass {
       // The band: its rows and those its last boxes reach below it.
       const std::int64_t band_end = std::min(rows_, end + kBox - 1);
       read_rows(s, first, band_end, band);
+      note_held({&band, &above, &below});
       count_cells(band.data(), flat(s, first), flat(s, end), mine);
       wada_detail::collect_basins(band.data(), static_cast<std::size_t>((end - first) * columns_), basins);
       boxes(band.data(), first, end, mine);
@@ -303,6 +324,7 @@ class StripPass {
         const std::int64_t end = std::min(rows_, first + strip_);
         const std::int64_t band_first = std::max<std::int64_t>(0, first - wada_detail::kHalo);
         read_rows(s, band_first, std::min(rows_, end + wada_detail::kHalo), band);
+        note_held({&band});
         wada_detail::count_rows(band.data(), band_first, rows_, columns_, first, end, basins, wada);
       }
     }
@@ -325,10 +347,11 @@ class StripPass {
   // The rows [first, end) of a slice, from the band when it holds them, else read.
   const BasinLabel* rows_at(std::int64_t s, std::int64_t from, std::int64_t to,
                             const std::vector<BasinLabel>& band, std::int64_t band_first,
-                            std::vector<BasinLabel>& scratch) const {
+                            std::vector<BasinLabel>& scratch, const std::vector<BasinLabel>& other) {
     const std::int64_t band_end = band_first + static_cast<std::int64_t>(band.size()) / std::max<std::int64_t>(columns_, 1);
     if (from >= band_first && to <= band_end) return band.data() + (from - band_first) * columns_;
     read_rows(s, from, to, scratch);
+    note_held({&band, &scratch, &other});
     return scratch.data();
   }
 
@@ -340,8 +363,8 @@ class StripPass {
     const std::int64_t from = std::max(first, eps), to = std::min(end, rows_ - eps);
     if (from >= to || columns_ - eps <= eps) return;
     const BasinLabel* here = band.data() + (from - first) * columns_;
-    const BasinLabel* up = rows_at(s, from - eps, to - eps, band, first, above);
-    const BasinLabel* down = rows_at(s, from + eps, to + eps, band, first, below);
+    const BasinLabel* up = rows_at(s, from - eps, to - eps, band, first, above, below);
+    const BasinLabel* down = rows_at(s, from + eps, to + eps, band, first, below, above);
     std::int64_t cells = 0, uncertain = 0;
     for (std::int64_t r = 0; r < to - from; ++r)
       for (std::int64_t c = eps; c < columns_ - eps; ++c) {
@@ -363,6 +386,7 @@ class StripPass {
   std::vector<LabelCounts> along_;
   Tally whole_;
   std::vector<Tally> per_slice_;
+  std::int64_t most_held_ = 0;
 };
 
 }  // namespace

@@ -27,6 +27,9 @@ struct MapStatistics {
   // cells over the value's cells.
   std::vector<std::map<int, double>> fractions;
   std::vector<BasinStatistics> per_slice;  // per value of axis 0, if asked
+  // The most labels its buffers held at once (their capacities), which the memory check's
+  // count must cover (parallel/basin_summary.hpp, summary_bytes_on_rank0).
+  std::int64_t most_cells_held = 0;
 };
 
 struct StripOptions {

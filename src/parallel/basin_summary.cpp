@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#include <functional>
 #include <numbers>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -196,9 +198,15 @@ void add_statistics(const RunPlan& whole, BasinSummary& summary, const LabelRead
 }
 
 double summary_bytes_on_rank0(const RunPlan& whole) {
-  const BasinMapShape shape = map_shape(whole.spec);
-  if (shape.plane_axes == 0)
-    return static_cast<double>(std::min<std::int64_t>(kStripCells, whole.grid.size())) * sizeof(BasinLabel);
+  return summary_bytes_on_rank0(map_shape(whole.spec));
+}
+
+double summary_bytes_on_rank0(const BasinMapShape& shape) {
+  if (shape.plane_axes == 0) {
+    const std::int64_t points = std::accumulate(shape.dims.begin(), shape.dims.end(), std::int64_t{1},
+                                                std::multiplies<>());
+    return static_cast<double>(std::min(kStripCells, points)) * sizeof(BasinLabel);
+  }
   const auto columns = shape.dims.back();
   // A 1-D plane's segment read with a segment's reach on either side and its last box's 4 cells
   // beyond, and the neighbours of an ε beyond that reach on either side (strip_statistics.cpp).

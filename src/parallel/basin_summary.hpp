@@ -55,6 +55,8 @@ void add_statistics(const RunPlan& whole, BasinSummary& summary, const LabelRead
 // Rank 0's memory for the statistics of the whole map, at the end: one band of the plane and
 // its halos (add_statistics), not the map.
 double summary_bytes_on_rank0(const RunPlan& whole);
+// The same for a map of that shape (its labels' buffers: MapStatistics::most_cells_held).
+double summary_bytes_on_rank0(const BasinMapShape& shape);
 
 // The attractor table along a dimension `attractor`, the fractions along the continuation axis
 // and the statistics as root attributes (INTERFACE.md).

@@ -34,6 +34,8 @@ DatasetSpec written_dataset(const RunPlan& plan, const OutputOptions& options, s
   return dataset;
 }
 
+// The file's layout; its grid axes and sample times are views of the plan's, so it must not
+// outlive the plan (every layout here is made, used and dropped within a call).
 FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ranks,
                        int threads) {
   FileLayout layout;
@@ -47,9 +49,10 @@ FileLayout make_layout(const RunPlan& plan, const OutputOptions& options, int ra
     } else {
       long_name = "initial value of " + axis.target;
     }
-    layout.axes.push_back({axis.name, axis.values, long_name, ""});
+    layout.axes.push_back({axis.name, CoordinateValues::borrowed(axis.values), long_name, ""});
   }
-  if (plan.samples > 0) layout.time = CoordinateSpec{"t", plan.sample_times, "time", "time"};
+  if (plan.samples > 0)
+    layout.time = CoordinateSpec{"t", CoordinateValues::borrowed(plan.sample_times), "time", "time"};
   for (std::size_t k = 0; k < plan.columns.size(); ++k)
     if (!plan.columns[k].internal) layout.datasets.push_back(written_dataset(plan, options, k));
   if (options.basins) add_to_layout(*options.basins, plan, layout);

@@ -21,6 +21,7 @@
 #include "engine/attractor_analysis.hpp"
 #include "engine/basin_column.hpp"
 #include "engine/fixed_point_exponent.hpp"
+#include "engine/mappers/energy_trap_record.hpp"
 #include "engine/mappers/mapper_choice.hpp"
 #include "engine/run_plan.hpp"
 #include "formula/custom_scene.hpp"
@@ -192,6 +193,12 @@ void check_resources(const RunPlan& plan, std::int64_t local_points, std::int64_
       (in_flight_blocks * static_cast<double>(block_size) * held.per_point_in_flight +
        static_cast<double>(local_points) * held.per_point_kept +
        static_cast<double>(local_blocks) * held.per_block_kept) * sizeof(double);
+  // Every rank's plan holds the grid's axes and sample times (on a 1-D plane, an axis is the
+  // grid; the output's layout only views them), and the energy trap's record of the wells a
+  // copy of the q values.
+  double axis_values = static_cast<double>(plan.sample_times.size());
+  for (const auto& axis : plan.spec.axes) axis_values += static_cast<double>(axis.values.size());
+  node_bytes += axis_values * sizeof(double) + energy_trap_record_bytes(plan);
   // Rank 0 writes `basin` through a batch, freed before it reads the map back a band at a time.
   if (c.rank == 0 && plan.map.basin >= 0)
     node_bytes += std::max(summary_bytes_on_rank0(plan), basin_batch_bytes(plan));

@@ -20,6 +20,7 @@
 
 #include "engine/attractor_search.hpp"
 #include "engine/mappers/basin_mapper.hpp"
+#include "engine/mappers/energy_trap_record.hpp"
 #include "physics/energy_wells.hpp"
 #include "physics/partials.hpp"
 
@@ -29,7 +30,7 @@ template <Scene S, bool Uniform, int W>
 class EnergyTrap {
   static constexpr int D = S::dof;
   static constexpr int N = 2 * D;
-  static constexpr std::int64_t kMostCombinations = std::int64_t{1} << 22;
+  static constexpr std::int64_t kMostCombinations = kEnergyTrapMostCombinations;
   using Params = ParamsOf<S, double>;
 
  public:
