@@ -252,8 +252,13 @@ void OutputFile::Impl::abandon() noexcept {
   if (!flush()) {
     // The disk is full. Free what the file holds and flush again, so that HDF5 can close it
     // now; a file it failed to close stays open inside HDF5 (main.cpp then skips MPI_Finalize,
-    // where HDF5 would try again and crash).
-    ::truncate(partial_path.c_str(), 0);
+    // where HDF5 would try again and crash). Truncated through HDF5's own descriptor (the sec2
+    // driver's), not by name: in a directory others can write to, the name may no longer be
+    // the file we made.
+    void* handle = nullptr;
+    if (file.get() >= 0 && H5Fget_vfd_handle(file.get(), H5P_DEFAULT, &handle) >= 0 && handle != nullptr) {
+      [[maybe_unused]] const int truncated = ::ftruncate(*static_cast<int*>(handle), 0);
+    }
     flush();
   }
   close_all();
