@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "kernel_build/sha256.hpp"
+
 namespace cs {
 namespace {
 
@@ -45,9 +47,8 @@ std::shared_ptr<const CustomScene> make_custom_scene(const std::string& K,
   // not have two different scenes under one name. Their template instances' static locals
   // (the energy trap's table of wells) are GNU unique symbols, which the loader merges across
   // libraries even under RTLD_LOCAL. One K, one header: sharing between its kernels is safe.
-  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a
-  for (const unsigned char c : K) hash = (hash ^ c) * 1099511628211ull;
-  scene->struct_name = fmt::format("CustomScene{:016x}", hash);
+  // SHA-256: no K can be chosen to take another's name (kernel_build/sha256.hpp).
+  scene->struct_name = "CustomScene" + sha256_hex(K, 32);
   try {
     scene->header = scene_header(f, scene->struct_name);
   } catch (const InputError&) {

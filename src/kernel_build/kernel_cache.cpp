@@ -31,6 +31,7 @@
 #include "kernel_build/host_cpu.hpp"
 #include "kernel_build/kernel_source.hpp"
 #include "kernel_build/sealed_library.hpp"
+#include "kernel_build/sha256.hpp"
 #include "kernel_headers_hash.hpp"
 #include "model/run_spec.hpp"
 #include "mpi/agreement.hpp"
@@ -265,12 +266,15 @@ std::string kernel_cache_directory() {
 std::string kernel_key(const std::string& source) {
   const Toolchain tc = toolchain();
   const std::string cpu = builds_for_this_cpu(tc) ? host_cpu_identity() : std::string();
-  std::uint64_t h = fnv1a(source);
+  // SHA-256, not FNV-1a: the source holds K's text, so a spec could be padded until its key
+  // met another K's, whose later runs would then load its kernel (kernel_build/sha256.hpp).
+  Sha256 h;
+  h.add(source);
   for (const std::string& part :
        {tc.compiler, compiler_identity(tc.compiler), fmt::format("{}", fmt::join(tc.flags, " ")),
         fmt::format("{}", fmt::join(tc.link_inputs, " ")), std::string(kVersion), build_identity(), cpu, std::string(kKernelHeadersHash)})
-    h = fnv1a(part, fnv1a(std::string_view("\0", 1), h));
-  return fmt::format("{:016x}", h);
+    h.add(std::string_view("\0", 1)).add(part);
+  return hex_of(h.digest(), kKernelKeyDigits);
 }
 
 BuiltKernel build_kernel(const std::string& source) {

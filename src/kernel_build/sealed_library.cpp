@@ -20,8 +20,8 @@ namespace {
 // Appended to every library after linking (ELF ignores bytes past its sections): proves the file
 // is whole and was made for this key before it is mapped, so neither a truncated file (SIGBUS
 // inside dlopen) nor another K's kernel under this name is ever loaded.
-constexpr char kTrailerMagic[8] = {'C', 'S', 'K', 'E', 'R', 'N', '0', '1'};
-constexpr std::size_t kKeyChars = 16;
+constexpr char kTrailerMagic[8] = {'C', 'S', 'K', 'E', 'R', 'N', '0', '2'};
+constexpr std::size_t kKeyChars = kKernelKeyDigits;
 constexpr std::size_t kTrailerBytes = sizeof kTrailerMagic + kKeyChars + 2 * sizeof(std::uint64_t);
 
 // The library's trailer: magic, key, size of what precedes it, its checksum.

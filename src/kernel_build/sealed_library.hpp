@@ -7,11 +7,15 @@
 
 #include <unistd.h>
 
+#include <cstddef>
 #include <string>
 
 #include "io/owned_directory.hpp"
 
 namespace cs {
+
+// A kernel's key (kernel_cache.cpp): 128 bits of SHA-256, in hexadecimal digits.
+inline constexpr std::size_t kKernelKeyDigits = 32;
 
 std::string library_name(const std::string& key);  // kernel-KEY.so
 
