@@ -26,8 +26,9 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
 * The built-in double well's map builds no kernel: kind 0, the points its wells, lambda_1 the
   linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to 1e-8.
 * The orbit is a kernel of its own (kernel_build/kernel_source.hpp): a K run without a basin
-  map builds the block runner's kernel alone; its basin map then builds the orbit kernel, which
-  holds nothing else, and the next map of the same K and method builds nothing; a built-in
+  map builds the block runner's kernel alone; its basin map builds the orbit kernel, which holds
+  nothing else, beside its runner's (a second compiler at the same time, before the map), and
+  the next map of the same K and method builds nothing; a built-in
   scene on its stroboscopic map builds the orbit kernel alone; the built-in double well with
   lyapunov (a kernel, no orbit needed) describes its attractors as it does without it, bit for
   bit.
@@ -291,8 +292,8 @@ check("K without a basin map: one kernel, the block runner's, and no orbit built
       list(found.values()) == [{RUN_ENTRY}] and "orbit kernel" not in log, f"{found}\n{log}")
 _, log = run(WELL, "well_k_split", env_extra={"CONTACTSWEEP_CACHE": split_cache})
 orbits = [n for n, e in entries(split_cache).items() if e == {ORBIT_ENTRY}]
-check("K's basin map: its orbit kernel built after the map, holding the orbit alone",
-      len(orbits) == 1 and "built the orbit kernel of scene.K" in log
+check("K's basin map: its orbit kernel built beside the runner's, holding the orbit alone",
+      len(orbits) == 1 and "built the orbit kernel of scene.K beside it" in log
       and all(e in ({RUN_ENTRY}, {ORBIT_ENTRY}) for e in entries(split_cache).values()),
       f"{entries(split_cache)}\n{log}")
 _, log = run(WELL.replace("n = 32", "n = 16"), "well_k_again",

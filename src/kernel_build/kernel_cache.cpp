@@ -401,20 +401,32 @@ void* load_kernel(const std::string& source, const char* entry_name) {
 }
 
 void* prepare_kernel(const std::string& source, const char* entry, MPI_Comm comm,
-                     BuiltKernel* built) {
+                     BuiltKernel* built, const std::string* beside, BuiltKernel* built_beside) {
   int node_rank = 0;
   MPI_Comm node = MPI_COMM_NULL;
   if (!serial(comm)) {
     MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank_of(comm), MPI_INFO_NULL, &node);
     MPI_Comm_rank(node, &node_rank);
   }
-  BuiltKernel mine;
+  BuiltKernel mine, other;
   std::exception_ptr failure;
-  try {
-    if (node_rank == 0) mine = build_kernel(source);
-  } catch (...) {
-    failure = std::current_exception();
+  {
+    // The second build's thread: joined before this scope ends, whatever happens.
+    std::jthread second;
+    if (node_rank == 0 && beside != nullptr)
+      second = std::jthread([&] {
+        try {
+          other = build_kernel(*beside);
+        } catch (...) {  // its own build, when the run needs it, says what went wrong
+        }
+      });
+    try {
+      if (node_rank == 0) mine = build_kernel(source);
+    } catch (...) {
+      failure = std::current_exception();
+    }
   }
+  if (built_beside != nullptr) *built_beside = other;
   if (node != MPI_COMM_NULL) MPI_Comm_free(&node);
   throw_if_any_failed(comm, failure);
   if (built != nullptr) *built = mine;

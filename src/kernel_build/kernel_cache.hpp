@@ -70,7 +70,12 @@ void* load_kernel(const std::string& source, const char* entry);
 
 // Collective: one build per node (its first rank; the others wait), then every rank loads it
 // and returns its entry point `entry`. Throws on every rank when any step fails anywhere.
+// `beside`, if given, is the source of a kernel the run will load later (a basin map's orbit
+// kernel): built into the cache at the same time, by a second compiler on another core, and
+// not loaded; a failure there is left for the later build to report. *built_beside says
+// whether it was compiled.
 void* prepare_kernel(const std::string& source, const char* entry, MPI_Comm comm,
-                     BuiltKernel* built = nullptr);
+                     BuiltKernel* built = nullptr, const std::string* beside = nullptr,
+                     BuiltKernel* built_beside = nullptr);
 
 }  // namespace cs
