@@ -11,6 +11,7 @@
 
 #include "numerics/method_list.hpp"
 #include "engine/mappers/energy_trap.hpp"
+#include "engine/mappers/energy_trap_record.hpp"
 #include "engine/run_plan.hpp"
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
@@ -301,6 +302,33 @@ TEST(BasinTrap, TheBoxGrowsUntilVOnItsBoundaryIsAboveTheInitialEnergy) {
 // boundary: V's least value there less 1 % of its range), which decides_alone reads; p0 in
 // {40, 0, −40} has the same E0 as ±40 and shares its wells. Each trap must see its own grid's
 // confinement, in whichever order the runs come.
+// The memory check counts what the trap's record of the wells keeps for the process's
+// lifetime (energy_trap_record_bytes): a copy of each q's values over the grid, where their
+// combinations are few enough for E₀ to visit (at most 2^22), else none; nothing without the
+// trap or without a basin map.
+TEST(BasinTrap, RecordBytesAreTheQValuesItKeeps) {
+  const auto bytes = [](const std::string& scene, const std::string& grid, const std::string& basin) {
+    const RunSpec spec = parse_run_spec("[scene]\nname = \"" + scene + "\"\n[integrator]\nh = 0.01\n"
+                                        "t_end = 1.0\n[grid]\n" + grid + "[measures]\n" + basin + "\n",
+                                        {}, "test spec");
+    return energy_trap_record_bytes(RunPlan(spec, *find_scene(spec.scene), *find_method(spec.method)));
+  };
+  const std::string line = "q_0 = { from = -2.0, to = 2.0, n = 1000 }\n";
+  EXPECT_EQ(bytes("double_well", line, "basin = {}"), 1000.0 * sizeof(double));
+  EXPECT_EQ(bytes("double_well", line + "p_0 = { from = -1.0, to = 1.0, n = 7 }\n", "basin = {}"),
+            1000.0 * sizeof(double));  // p's values are not kept
+  EXPECT_EQ(bytes("double_well", "p_0 = { from = -1.0, to = 1.0, n = 7 }\n", "basin = {}"),
+            1.0 * sizeof(double));  // q fixed: its one value
+  EXPECT_EQ(bytes("double_well", line, "basin = { exact_trap = false }"), 0.0);
+  EXPECT_EQ(bytes("double_well", line, "final_state = true"), 0.0);
+  EXPECT_EQ(bytes("coupled_oscillators", "q1_0 = { from = -1.0, to = 1.0, n = 2048 }\n"
+                                         "q2_0 = { from = -1.0, to = 1.0, n = 2048 }\n", "basin = {}"),
+            4096.0 * sizeof(double));  // 2^22 combinations: visited
+  EXPECT_EQ(bytes("coupled_oscillators", "q1_0 = { from = -1.0, to = 1.0, n = 2048 }\n"
+                                         "q2_0 = { from = -1.0, to = 1.0, n = 2049 }\n", "basin = {}"),
+            0.0);  // one more: E₀ is +∞, nothing kept
+}
+
 TEST(BasinTrap, RunsShareTheWellsOnlyWhereTheirInitialEnergiesAgree) {
   const double gamma = 0.4375;  // no other test's: the process-wide wells start empty for it
   const ParamsOf<DoubleWell, double> c{1.0, gamma};
