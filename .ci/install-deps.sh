@@ -16,8 +16,9 @@ packages=(
   python3 python3-numpy python3-h5py python3-matplotlib python3-xarray python3-h5netcdf
   # the Python module (src/python/): pybind11, its tests (pytest), its progress bar (tqdm)
   pybind11-dev python3-pybind11 python3-dev python3-pytest python3-tqdm
-  # tests: a second and third user for the security test (useradd, setpriv), taskset
-  passwd util-linux
+  # tests: a second and third user for the security test (useradd, setpriv), taskset; strace
+  # holds a run between two system calls in the fault test
+  passwd util-linux strace
   # clang + its runtime (libFuzzer, sanitizers) for fuzzing
   clang libclang-rt-14-dev
   # the documentation site (docs/, mkdocs.yml): `mkdocs build --strict` in the docs test

@@ -118,6 +118,38 @@ rc=$?
   ok "the live run ends with exit 0 and its own bits" ||
   bad "the live run ends with exit 0 and its own bits" "a step of this case failed without its own message (see the logs in the work directory)"
 
+# 2c. A run that made the journal's directory but lost its lock to another run (both started at
+# once) is refused and leaves the live run's lock alone: it once removed it on its way out, so a
+# third run locked a fresh file beside the live one, and a live run then put the third's
+# half-written file in place with exit 0. strace holds the first run for 1.5 s between its
+# mkdir of the journal and its lock, so that the second takes the lock first.
+if command -v strace >/dev/null && strace -f -qq -o /dev/null true 2>/dev/null; then
+  rm -rf steal.h5*
+  strace -f -qq -o /dev/null -P steal.h5.journal -e trace=mkdir -e inject=mkdir:delay_exit=1500000 \
+    "$bin" run spec.toml -o steal.h5 --quiet "${long[@]}" >steal_x.log 2>&1 &
+  run_x=$!
+  sleep 0.5
+  "$bin" run spec.toml -o steal.h5 --quiet "${long[@]}" >steal_y.log 2>&1 &
+  run_y=$!
+  wait "$run_x"
+  rc_x=$?
+  lock_left=$([[ -f steal.h5.journal/lock ]] && echo yes || echo no)
+  "$bin" run spec.toml -o steal.h5 --resume --quiet "${long[@]}" >steal_z.log 2>&1
+  rc_z=$?
+  wait "$run_y"
+  rc_y=$?
+  if status_and_message "the run that lost the lock" 2 $rc_x steal_x.log "another run is writing this output" &&
+     [[ $lock_left == yes ]] &&
+     status_and_message "a third run beside the live one" 2 $rc_z steal_z.log "another run is writing this output" &&
+     ((rc_y == 0)) && same "the live run beside two refused ones" steal.h5 long_reference.h5; then
+    ok "a run that made the journal but lost its lock leaves the live run's lock; a third is refused; the live run's bits"
+  elif [[ $lock_left != yes ]]; then
+    bad "a run that lost the lock" "the live run's lock file was removed (exits: $rc_x, $rc_z, $rc_y)"
+  fi
+else
+  skip "a run that made the journal but lost its lock" "needs strace (with ptrace allowed)"
+fi
+
 # 3. Disk full while the HDF5 file is written (after 0 bytes, mid-metadata, mid-data), on one
 # rank, on both, and on rank 0 of two only: exit 1 with a message, no temporary, journal kept,
 # and --resume gives the right file.

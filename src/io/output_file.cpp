@@ -139,6 +139,11 @@ void OutputFile::Impl::create_file(const FileLayout& layout) {
   // H5F_ACC_EXCL (O_CREAT | O_EXCL): a name planted since the stale one was removed, a link
   // above all, makes the create fail instead of writing through it.
   file = FileHandle(checker(H5Fcreate(partial_path.c_str(), H5F_ACC_EXCL, fcpl.get(), fapl.get()), what));
+  void* handle = nullptr;
+  struct stat made {};
+  if (H5Fget_vfd_handle(file.get(), H5P_DEFAULT, &handle) >= 0 && handle != nullptr &&
+      ::fstat(*static_cast<int*>(handle), &made) == 0)
+    made_device = made.st_dev, made_inode = made.st_ino, made_known = true;
   for (const auto& [name, value] : layout.text_attributes) {
     write_text_attribute(file.get(), name, value, checker);
   }
@@ -264,7 +269,14 @@ void OutputFile::Impl::abandon() noexcept {
   close_all();
   hdf5_error_detail();  // clears the error stack
   std::error_code ignored;
-  std::filesystem::remove(partial_path, ignored);
+  if (partial_is_ours()) std::filesystem::remove(partial_path, ignored);
+}
+
+bool OutputFile::Impl::partial_is_ours() const {
+  if (!made_known) return true;  // HDF5 did not say (no sec2 descriptor): the name as before
+  struct stat now {};
+  return ::lstat(partial_path.c_str(), &now) == 0 && S_ISREG(now.st_mode) &&
+         now.st_dev == made_device && now.st_ino == made_inode;
 }
 
 // Empty when the request is well formed, else the reason.
@@ -409,6 +421,9 @@ void OutputFile::commit(bool replace_existing) {
   if (s.incomplete) fail(s.partial_path, "commit before complete()");
   s.checker.require(s.flush(), "cannot write the file's metadata");
   s.checker.require(s.close_all(), "cannot close the file");
+  if (!s.partial_is_ours())
+    fail(s.partial_path, "the temporary file this run wrote was removed or replaced by another "
+                         "program; nothing was put in place (another run of this output?)");
   file_system_step(s.final_path, "cannot put the finished file in place",
                    [&] { place_durably(s.partial_path, s.final_path, replace_existing); });
   s.committed = true;

@@ -3,6 +3,8 @@
 // DatasetsFirst receives at the end). Nothing else includes it.
 #pragma once
 
+#include <sys/stat.h>
+
 #include <hdf5.h>
 
 #include <map>
@@ -40,6 +42,13 @@ struct OutputFile::Impl {
   int next_dim_id = 0;      // _Netcdf4Dimid of the first extra dimension
   std::map<std::string, std::string> written_text;  // DatasetsFirst: root attributes so far
   std::map<std::string, double> written_numbers;
+  // The temporary file this run made (device and inode, from HDF5's descriptor): the name is put
+  // in place, or removed, only while it is still that file. A run started beside this one (the
+  // journal's lock is what keeps them apart, and a bug there once let one in) could otherwise
+  // have this run publish its half-written file under the output's name.
+  dev_t made_device = 0;
+  ino_t made_inode = 0;
+  bool made_known = false;
 
   [[noreturn]] void fail_here(const std::string& what, std::string detail = {}) const {
     hdf5::fail(partial_path, what, std::move(detail));
@@ -70,6 +79,7 @@ struct OutputFile::Impl {
   bool flush();
   bool close_all();
   void abandon() noexcept;
+  bool partial_is_ours() const;
 };
 
 }  // namespace cs

@@ -168,13 +168,22 @@ void OwnedDirectory::write_atomically(const std::string& name, const std::string
   }
 }
 
-bool OwnedDirectory::read_file(const std::string& name, std::string& bytes) const {
-  const int fd = ::openat(fd_, name.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+bool OwnedDirectory::read_file(const std::string& name, std::string& bytes, std::size_t most) const {
+  // O_NONBLOCK: a FIFO under the name would block the open forever; S_ISREG then refuses it.
+  const int fd = ::openat(fd_, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return false;
   struct stat status {};
-  bool ok = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode) && status.st_uid == ::geteuid();
+  bool ok = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode) && status.st_uid == ::geteuid() &&
+            static_cast<std::uint64_t>(status.st_size) <= most;
   if (ok) {
-    bytes.resize(static_cast<std::size_t>(status.st_size));
+    try {  // a file far larger than memory (a sparse one, say) is unreadable, not fatal
+      bytes.resize(static_cast<std::size_t>(status.st_size));
+    } catch (const std::bad_alloc&) {
+      ok = false;
+      bytes.clear();
+    }
+  }
+  if (ok) {
     std::size_t done = 0;
     while (ok && done < bytes.size()) {
       const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);

@@ -12,6 +12,7 @@
 
 #include <sys/stat.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -55,9 +56,11 @@ class OwnedDirectory {
   void write_atomically(const std::string& name, const std::string& bytes,
                         bool shared = false) const;
 
-  // The whole content of the regular file `name`, opened without following a link; false when
-  // it is missing, not a regular file, not this user's or unreadable.
-  bool read_file(const std::string& name, std::string& bytes) const;
+  // The whole content of the regular file `name`, opened without following a link (nor waiting
+  // on a FIFO); false when it is missing, not a regular file, not this user's, larger than
+  // `most` bytes or unreadable.
+  bool read_file(const std::string& name, std::string& bytes,
+                 std::size_t most = std::numeric_limits<std::size_t>::max()) const;
 
  private:
   std::string path_;

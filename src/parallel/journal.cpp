@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "formula/k_formula.hpp"
 #include "io/log.hpp"
 #include "io/owned_directory.hpp"
 #include "model/run_spec.hpp"
@@ -24,6 +25,9 @@ constexpr std::size_t kRunIdBytes = 16;  // run_identity() is 16 hex digits
 constexpr const char* kManifestHeader = "contactsweep journal 2";
 constexpr const char* kOldManifestHeader = "contactsweep journal";  // format 1: no identity
 constexpr std::int64_t kMaxSpecBytes = std::int64_t{1} << 26;  // larger: a damaged manifest
+constexpr std::size_t kMostManifestBytes = 2 * kMaxSpecBytes;  // the spec and a few lines
+// A settlement record (engine/settlement_records.hpp): a point of phase space and its period.
+constexpr std::size_t kMostRecordWidth = 2 * kMaxFormulaDof + 1;
 
 // FNV-1a over the payload, a 64-bit word at a time in four interleaved streams, then the tail
 // byte by byte: catches a torn or truncated block file. Each step (h ^ w)·prime is a bijection
@@ -98,7 +102,7 @@ std::optional<JournalManifest> read_manifest(const OwnedDirectory& dir, std::str
   struct stat status {};
   if (::fstatat(dir.fd(), "manifest", &status, AT_SYMLINK_NOFOLLOW) != 0) return std::nullopt;
   std::string bytes;
-  if (!dir.read_file("manifest", bytes)) {
+  if (!dir.read_file("manifest", bytes, kMostManifestBytes)) {
     problem = "its manifest " + path + " is not a readable file of yours";
     return std::nullopt;
   }
@@ -156,7 +160,10 @@ Journal::Journal(const std::string& output_path, std::string run_id)
     : directory_(output_path + ".journal"), run_id_(std::move(run_id)) {}
 
 Journal::~Journal() {
-  if (!started_ && dir_.created()) {  // refused before it began: leave no trace
+  // Refused before it began: leave no trace, but only of our own. A run that made the directory
+  // and then lost the lock to another leaves that run's lock file alone: removing it let a
+  // third run lock a fresh file beside the live one, and the two wrote one output.
+  if (!started_ && dir_.created() && lock_fd_ >= 0) {
     dir_.remove_file("lock");
     ::rmdir(directory_.c_str());
   }
@@ -286,10 +293,18 @@ void Journal::save(const BlockResults& block) const {
 }
 
 bool Journal::load(BlockResults& block) const {
-  std::string bytes;
-  if (!dir().read_file(block_name(block.range.begin), bytes)) return false;
   const std::size_t fixed = sizeof kBlockMagic + kRunIdBytes + 3 * sizeof(std::int64_t) +
                             block.columns.size() * sizeof(std::int64_t) + sizeof(std::uint64_t);
+  // The most a block of this run can hold, so that a damaged file's size (a block extended to
+  // a terabyte) is never allocated: its columns, a growing one (the settlement records) at most
+  // one record a point.
+  std::size_t most = fixed;
+  const auto points = static_cast<std::size_t>(block.range.end - block.range.begin);
+  for (std::size_t k = 0; k < block.columns.size(); ++k)
+    most += (k < block.grows.size() && block.grows[k] ? points * kMostRecordWidth : block.columns[k].size()) *
+            sizeof(double);
+  std::string bytes;
+  if (!dir().read_file(block_name(block.range.begin), bytes, most)) return false;
   if (bytes.size() < fixed || std::memcmp(bytes.data(), kBlockMagic, sizeof kBlockMagic) != 0)
     return false;
   std::uint64_t sum;
