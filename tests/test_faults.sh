@@ -150,6 +150,26 @@ else
   skip "a run that made the journal but lost its lock" "needs strace (with ptrace allowed)"
 fi
 
+# Damaged journal files that are no block at all: a FIFO under a block's name (opening it once
+# waited forever) and a block extended to a terabyte (sparse; its size was allocated: bad_alloc,
+# and the resume was blocked). Both are recomputed: exit 0, the uninterrupted run's bits.
+for damage in fifo huge; do
+  rm -rf "odd_$damage.h5"*
+  CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o "odd_$damage.h5" --quiet 2>/dev/null
+  first=$(ls "odd_$damage.h5.journal" 2>/dev/null | grep '^block_.*\.bin$' | head -1)
+  if [[ -z $first ]]; then bad "a $damage in the journal" "the killed run journaled no block"; continue; fi
+  if [[ $damage == fifo ]]; then
+    rm "odd_$damage.h5.journal/$first" && mkfifo "odd_$damage.h5.journal/$first"
+  else
+    truncate -s 1T "odd_$damage.h5.journal/$first"
+  fi
+  timeout 120 "$bin" run spec.toml -o "odd_$damage.h5" --resume --quiet >"odd_$damage.log" 2>&1
+  rc=$?
+  ((rc == 0)) && same "a $damage in the journal" "odd_$damage.h5" reference.h5 &&
+    ok "a $damage under a journal block's name: --resume recomputes it (exit 0, the right bits)" ||
+    { ((rc != 0)) && bad "a $damage under a journal block's name" "exit $rc (124: hung): $(head -c 300 "odd_$damage.log")"; }
+done
+
 # 3. Disk full while the HDF5 file is written (after 0 bytes, mid-metadata, mid-data), on one
 # rank, on both, and on rank 0 of two only: exit 1 with a message, no temporary, journal kept,
 # and --resume gives the right file.

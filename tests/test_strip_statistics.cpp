@@ -12,6 +12,8 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "basin_maps.hpp"
 #include "engine/strip_statistics.hpp"
@@ -331,6 +333,135 @@ TEST(StripStatistics, HoldsWhatTheMemoryCheckCounts) {
                                            {-1, false, 10, 0});
   EXPECT_EQ(b.most_cells_held,
             std::max<std::int64_t>((10 + 4 + 10) * 40, std::min<std::int64_t>(300, 10 + 2 * wada_detail::kHalo) * 40));
+}
+
+// 2-D planes against the definitions, computed directly over whole planes: every box of 5 × 5
+// cells (rows of boxes, then columns; within a box row by row, as BoxCounts meets the labels),
+// and for each ε every cell with all four neighbours ε away inside the plane, uncertain if one
+// of them differs. Planes whose sides are multiples of 5 (the last row and column of boxes),
+// boundaries across and along the rows, and the least-squares exponent of f(ε) (NaN with fewer
+// than 3 values of ε). Band heights from 1 row to the whole plane.
+struct PlaneReference {
+  std::map<int, std::int64_t> cells;
+  std::int64_t boxes = 0, boundary_boxes = 0;
+  double sum = 0.0, boundary_sum = 0.0;
+  std::vector<int> eps;
+  std::vector<std::int64_t> tested, uncertain;
+};
+
+PlaneReference plane_reference(const std::vector<BasinLabel>& labels, std::int64_t slices, std::int64_t rows,
+                               std::int64_t columns) {
+  PlaneReference r;
+  for (std::int64_t e = 1; 8 * e <= std::min(rows, columns); e *= 2)
+    r.eps.push_back(static_cast<int>(e)), r.tested.push_back(0), r.uncertain.push_back(0);
+  for (std::int64_t s = 0; s < slices; ++s) {
+    const BasinLabel* plane = labels.data() + s * rows * columns;
+    const auto at = [&](std::int64_t row, std::int64_t column) { return plane[row * columns + column]; };
+    for (std::int64_t i = 0; i < rows * columns; ++i) ++r.cells[plane[i]];
+    for (std::int64_t r0 = 0; r0 + 5 <= rows; r0 += 5)
+      for (std::int64_t c0 = 0; c0 + 5 <= columns; c0 += 5) {
+        std::vector<std::pair<int, int>> met;  // label, count: in the order met
+        for (std::int64_t row = r0; row < r0 + 5; ++row)
+          for (std::int64_t column = c0; column < c0 + 5; ++column) {
+            auto it = std::find_if(met.begin(), met.end(), [&](const auto& m) { return m.first == at(row, column); });
+            if (it == met.end()) met.emplace_back(at(row, column), 1);
+            else ++it->second;
+          }
+        double entropy = 0.0;
+        for (const auto& [label, n] : met) entropy -= n / 25.0 * std::log(n / 25.0);
+        r.sum += entropy, ++r.boxes;
+        if (met.size() > 1) r.boundary_sum += entropy, ++r.boundary_boxes;
+      }
+    for (std::size_t k = 0; k < r.eps.size(); ++k) {
+      const std::int64_t e = r.eps[k];
+      for (std::int64_t row = e; row < rows - e; ++row)
+        for (std::int64_t column = e; column < columns - e; ++column) {
+          const BasinLabel here = at(row, column);
+          ++r.tested[k];
+          r.uncertain[k] += at(row - e, column) != here || at(row + e, column) != here ||
+                            at(row, column - e) != here || at(row, column + e) != here;
+        }
+    }
+  }
+  return r;
+}
+
+void expect_plane_reference(const std::vector<BasinLabel>& labels, std::int64_t slices, std::int64_t rows,
+                            std::int64_t columns) {
+  const PlaneReference r = plane_reference(labels, slices, rows, columns);
+  std::vector<double> x, y;  // log ε, log f(ε) where f > 0
+  for (std::size_t k = 0; k < r.eps.size(); ++k)
+    if (r.uncertain[k] > 0)
+      x.push_back(std::log(r.eps[k])),
+          y.push_back(std::log(static_cast<double>(r.uncertain[k]) / static_cast<double>(r.tested[k])));
+  double slope = NAN;
+  if (x.size() >= 3) {
+    const double n = static_cast<double>(x.size());
+    double mx = 0.0, my = 0.0, sxy = 0.0, sxx = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) mx += x[k] / n, my += y[k] / n;
+    for (std::size_t k = 0; k < x.size(); ++k) sxy += (x[k] - mx) * (y[k] - my), sxx += (x[k] - mx) * (x[k] - mx);
+    slope = sxy / sxx;
+  }
+  const BasinMapShape shape = slices == 1 ? BasinMapShape{{rows, columns}, 2} : BasinMapShape{{slices, rows, columns}, 2};
+  for (std::int64_t strip : std::vector<std::int64_t>{1, 4, 5, 6, rows}) {
+    SCOPED_TRACE(testing::Message() << slices << " x " << rows << " x " << columns << ", bands of " << strip);
+    const BasinStatistics s = strip_statistics(shape, reader_of(labels), {-1, false, strip, 0}).whole;
+    EXPECT_EQ(s.cells, r.cells);
+    EXPECT_EQ(s.box_cells, 5);
+    EXPECT_EQ(s.boxes, r.boxes);
+    EXPECT_EQ(s.boundary_boxes, r.boundary_boxes);
+    EXPECT_TRUE(same_bits(s.basin_entropy, r.sum / static_cast<double>(r.boxes)));
+    if (r.boundary_boxes > 0) {
+      EXPECT_TRUE(same_bits(s.boundary_basin_entropy, r.boundary_sum / static_cast<double>(r.boundary_boxes)));
+    }
+    EXPECT_EQ(s.epsilon_cells, r.eps);
+    ASSERT_EQ(s.uncertain_fraction.size(), r.tested.size());
+    for (std::size_t k = 0; k < r.tested.size(); ++k)
+      EXPECT_TRUE(same_bits(s.uncertain_fraction[k],
+                            static_cast<double>(r.uncertain[k]) / static_cast<double>(r.tested[k])))
+          << "eps " << r.eps[k];
+    if (std::isnan(slope)) {
+      EXPECT_TRUE(std::isnan(s.uncertainty_exponent)) << s.uncertainty_exponent;
+    } else {
+      EXPECT_NEAR(s.uncertainty_exponent, slope, 1e-12);  // the same sums, another order
+    }
+  }
+}
+
+// Two basins split along a row (the transpose of the straight boundaries above): only the
+// neighbours above and below see it.
+std::vector<BasinLabel> split_across_rows(std::int64_t rows, std::int64_t columns, std::int64_t at) {
+  std::vector<BasinLabel> labels(static_cast<std::size_t>(rows * columns));
+  for (std::int64_t i = 0; i < rows * columns; ++i) labels[static_cast<std::size_t>(i)] = i / columns < at ? 1 : 2;
+  return labels;
+}
+
+TEST(StripStatistics, TwoDimensionalPlaneAgainstTheDefinitions) {
+  for (const auto& [rows, columns] : std::vector<std::pair<std::int64_t, std::int64_t>>{
+           {25, 65}, {40, 35}, {33, 50}, {97, 83}, {16, 16}, {20, 23}}) {
+    expect_plane_reference(mixed_map(rows * columns, columns, 3, 5), 1, rows, columns);
+    expect_plane_reference(split_across_rows(rows, columns, rows / 2 + 1), 1, rows, columns);
+  }
+  expect_plane_reference(mixed_map(3 * 30 * 45, 45, 4, 6), 3, 30, 45);  // slices of a continuation
+  // A horizontal boundary in closed form: f(ε) = 2ε / (R − 2ε) of the cells tested.
+  const std::int64_t rows = 64, columns = 40;
+  const BasinStatistics s =
+      strip_statistics({{rows, columns}, 2}, reader_of(split_across_rows(rows, columns, rows / 2))).whole;
+  for (std::size_t k = 0; k < s.epsilon_cells.size(); ++k) {
+    const double eps = s.epsilon_cells[k];
+    EXPECT_DOUBLE_EQ(s.uncertain_fraction[k], 2.0 * eps / (rows - 2.0 * eps)) << eps;
+  }
+}
+
+// Fewer than three values of ε (sides under 32 cells): no exponent, on a line as on a plane.
+TEST(StripStatistics, NoExponentFromTwoValuesOfEpsilon) {
+  const BasinStatistics line = strip_statistics({{16}, 1}, reader_of(mixed_map(16, 16, 3, 3))).whole;
+  ASSERT_EQ(line.epsilon_cells, (std::vector<int>{1, 2}));
+  EXPECT_TRUE(std::isnan(line.uncertainty_exponent));
+  EXPECT_TRUE(std::isnan(line.boundary_dimension));
+  const BasinStatistics plane = strip_statistics({{23, 40}, 2}, reader_of(mixed_map(23 * 40, 40, 3, 3))).whole;
+  ASSERT_EQ(plane.epsilon_cells, (std::vector<int>{1, 2}));
+  EXPECT_TRUE(std::isnan(plane.uncertainty_exponent));
 }
 
 TEST(StripStatistics, TwoDimensionalPlaneWithUndecidedCells) {

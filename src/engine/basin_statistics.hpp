@@ -21,12 +21,16 @@ struct BasinMapShape {
   int plane_axes = 0;              // the last 1 or 2 axes: initial conditions (0: none)
 };
 
+// Cells along each axis of a basin-entropy box (Daza et al. 2016 use 5): the box the
+// statistics count (strip_statistics.cpp) and the `basin_entropy_box_cells` they report.
+inline constexpr int kBasinEntropyBoxCells = 5;
+
 struct BasinStatistics {
   std::map<int, std::int64_t> cells;  // per label (0: undecided)
   std::int64_t points = 0;
   // Over boxes of box_cells^plane_axes cells of the plane (undecided counted as one more
   // outcome); NaN without a plane.
-  int box_cells = 5;
+  int box_cells = kBasinEntropyBoxCells;
   double basin_entropy = 0.0;
   double boundary_basin_entropy = 0.0;
   std::int64_t boxes = 0, boundary_boxes = 0;

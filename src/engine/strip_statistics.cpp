@@ -13,7 +13,7 @@ namespace cs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr std::int64_t kBox = 5;  // cells along each axis of a box (BasinStatistics::box_cells)
+constexpr std::int64_t kBox = kBasinEntropyBoxCells;  // cells along each axis of a box
 
 // The labels met in one box and how often: a few pairs, searched linearly (a std::map per box
 // cost ~10 ms on a 512² map).
