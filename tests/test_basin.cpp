@@ -302,6 +302,32 @@ TEST(BasinTrap, TheBoxGrowsUntilVOnItsBoundaryIsAboveTheInitialEnergy) {
 // boundary: V's least value there less 1 % of its range), which decides_alone reads; p0 in
 // {40, 0, −40} has the same E0 as ±40 and shares its wells. Each trap must see its own grid's
 // confinement, in whichever order the runs come.
+// The trap's level depends on the step (a⁴/2 − 2h²a⁶ for the double well), so the wells kept
+// per process are keyed on h too: two runs of one grid and parameters at h = 0.01 and 0.1 (an
+// h axis's slices) each trap at their own level. A lane with E = 0.49 lies between them
+// (0.4998 and 0.48): trapped at h = 0.01, not at h = 0.1.
+TEST(BasinTrap, EachStepHasItsOwnLevel) {
+  const ParamsOf<DoubleWell, double> c{1.0, 0.421875};  // no other test's: fresh wells
+  const RunSpec spec = parse_run_spec(
+      "[scene]\nname = \"double_well\"\na = 1.0\ngamma = 0.421875\n[integrator]\nh = 0.01\n"
+      "t_end = 10.0\n[grid]\nq_0 = { from = -2.0, to = 2.0, n = 9 }\n[measures]\nbasin = {}\n",
+      {}, "test spec");
+  const RunPlan plan(spec, *find_scene(spec.scene), *find_method(spec.method));
+  for (const double h : {0.01, 0.1}) {
+    SCOPED_TRACE(h);
+    EnergyTrap<DoubleWell, true, 64> trap(plan, true, LaneClock{0.0, h}, c);
+    LaneState<1> x{};
+    x.q[0] = 0.5;  // V = 0.28125
+    x.p[0] = std::sqrt(2.0 * (0.49 - 0.28125));
+    Settlement<2> s;
+    trap.look(0, 0, x, c, s);
+    EXPECT_EQ(s.settled, h == 0.01);
+    if (s.settled) {
+      EXPECT_NEAR(s.point[0], 1.0, 1e-12);
+    }
+  }
+}
+
 // The memory check counts what the trap's record of the wells keeps for the process's
 // lifetime (energy_trap_record_bytes): a copy of each q's values over the grid, where their
 // combinations are few enough for E₀ to visit (at most 2^22), else none; nothing without the
