@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <numbers>
 #include <string>
 
+#include "engine/sync_tracker.hpp"
 #include "support/run_in_memory.hpp"
 
 namespace cs {
@@ -123,6 +125,33 @@ TEST(SyncMeasures, EscapeForNegativeCouplingIsFlaggedDiverged) {
   for (const char* name : {"sync_r", "sync_phase_drift", "sync_freq_ratio", "sync_amplitude",
                            "final_q1", "final_p2", "final_H"})
     EXPECT_TRUE(std::isfinite(r[name][1])) << name;
+}
+
+}  // namespace
+}  // namespace cs
+
+namespace cs {
+namespace {
+
+// A phase that turns backwards unwraps as well as one that turns forwards: oscillator 1 runs
+// retrograde (p₁ = +ω₁ sin ω₁t, so θ₁ = −ω₁t), oscillator 2 forwards, sampled every 0.2 time
+// units (|Δθ| ≤ 0.26, far below π) over 100: the frequency ratio is −ω₁/ω₂ and the drift of
+// θ₁ − θ₂ is −ω₁ − ω₂, whichever way each phase crosses ±π (16 wraps of θ₁, 11 of θ₂).
+TEST(SyncTracker, UnwrapsPhasesTurningEitherWay) {
+  const double omega1 = 1.3, omega2 = 0.7, h = 0.01;
+  const std::int64_t every = 20, last = 10000;
+  SyncTracker tracker;
+  bool done = false;
+  for (std::int64_t n = 0; n <= last; n += every) {
+    const double t = static_cast<double>(n) * h;
+    done = tracker.sample(n, 0, last, std::cos(omega1 * t), omega1 * std::sin(omega1 * t),
+                          std::cos(omega2 * t), -omega2 * std::sin(omega2 * t), omega1, omega2);
+  }
+  ASSERT_TRUE(done);
+  const SyncResult r = tracker.result(static_cast<double>(last) * h);
+  EXPECT_NEAR(r.freq_ratio, -omega1 / omega2, 1e-12);
+  EXPECT_NEAR(r.phase_drift, -omega1 - omega2, 1e-12);
+  EXPECT_NEAR(r.amplitude, 1.0, 1e-12);
 }
 
 }  // namespace
