@@ -163,6 +163,36 @@ TEST(Dop853, AnAttemptThatNeverPassesBreaksTheLaneDown) {
   EXPECT_LT(attempts, 100);  // h/3 a rejection: 2^-52 from 0.1 in ~33
 }
 
+// dop853.f's controller: after a rejection the next step shrinks by at most facc1 = 1/0.333 and
+// grows by at most 6 after an acceptance, except that the step accepted right after a rejection
+// proposes no more than itself (hnew = min(hnew, h)). From h = 5 at rtol 1e-10 on scene A the
+// first attempts are rejected; every step then follows those bounds exactly, to t = 20.
+TEST(Dop853, TheControllerKeepsDop853fsBounds) {
+  LaneState<1> x = start_state();
+  double t = 0.0, h = 5.0, last_rejected = 0.0, accepted = 0.0, rejected = 0.0;
+  const Dop853::Control control{1e-10, 1e-10, 20.0, 20.0};
+  int after_rejection = 0;
+  while (t < 20.0 && accepted + rejected < 10000) {
+    const double h_tried = h, was_rejected = last_rejected, accepted_before = accepted;
+    Dop853::attempt<S, Carry{true, true}>(x, kSceneA, t, h, last_rejected, accepted, rejected, control);
+    const bool accept = accepted > accepted_before;
+    if (!accept) {
+      EXPECT_LT(h, h_tried);
+      EXPECT_GE(h, h_tried * 0.333 * (1.0 - 1e-15));
+    } else if (t < 20.0) {
+      EXPECT_LE(h, 6.0 * h_tried * (1.0 + 1e-15));
+      if (was_rejected > 0.0) {
+        EXPECT_LE(h, h_tried) << "the step after a rejection grew";
+        ++after_rejection;
+      }
+    }
+  }
+  EXPECT_EQ(t, 20.0);
+  EXPECT_GT(rejected, 0.0);
+  EXPECT_GT(after_rejection, 0);
+  EXPECT_LT(error_at(x, t), 1e-8);
+}
+
 // The engine: every lane ends at t_end, at the closed form within the tolerance; the same bits
 // for any cut of the grid into blocks (as ranks and threads cut it).
 const char* kSceneAGrid = R"(
