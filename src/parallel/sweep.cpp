@@ -294,7 +294,8 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
   const std::string source = kernel_source(scene.header, scene.struct_name, choice);
   // A K's basin map describes its attractors with the orbit kernel (wants_orbits: wherever its
   // table holds an attractor), built after the map: compiled now instead, beside the runner's,
-  // a second compiler on the second core (0.5 s of a first map's 2 s on two cores).
+  // a second compiler on the second core (a first map 2.3 -> 1.7 s on two cores:
+  // docs/performance.md).
   std::optional<std::string> orbit_source;
   if (plan.spec.custom && plan.map.basin >= 0)
     orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
