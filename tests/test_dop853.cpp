@@ -176,6 +176,7 @@ TEST(Dop853, TheControllerKeepsDop853fsBounds) {
     const double h_tried = h, was_rejected = last_rejected, accepted_before = accepted;
     Dop853::attempt<S, Carry{true, true}>(x, kSceneA, t, h, last_rejected, accepted, rejected, control);
     const bool accept = accepted > accepted_before;
+    // The bounds are products and quotients of h: 1e-15 allows their one rounding.
     if (!accept) {
       EXPECT_LT(h, h_tried);
       EXPECT_GE(h, h_tried * 0.333 * (1.0 - 1e-15));

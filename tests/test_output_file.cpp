@@ -438,6 +438,34 @@ std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// Another program's file renamed over the temporary while this one writes (a second run of the
+// same output, say): commit() puts nothing in place and names why, and neither commit() nor the
+// destructor removes that file, which is not this run's.
+TEST(OutputFile, ATemporarySwappedMidRunIsNeverPutInPlace) {
+  const std::string path = sibling_path("swapped");
+  remove_both(path);
+  const std::string other = path + ".other";
+  std::ofstream(other) << "another run's file";
+  {
+    const std::vector<PointRange> mine = {{0, kPoints}};
+    OutputFile out(path, grid_layout());
+    out.write("final_q", mine, values_for<double>(mine, 1, final_q).data());
+    std::filesystem::rename(other, path + ".partial");  // replaces the name, not our open file
+    try {
+      out.commit();
+      ADD_FAILURE() << "commit put a file it did not write in place";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("removed or replaced by another program"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_FALSE(exists(path));
+  EXPECT_EQ(file_bytes(path + ".partial"), "another run's file");
+  EXPECT_EQ(open_hdf5_objects(), 0);
+  std::filesystem::remove(path + ".partial");
+}
+
+
 // No timestamps or other run-dependent bytes: reruns can be compared with cmp. HDF5 timestamps
 // have one-second resolution, hence the pause.
 TEST(OutputFile, IdenticalRunsGiveIdenticalBytes) {

@@ -353,6 +353,15 @@ rc=$?
   ok "that output moved away, --resume finishes the victim's run from its journal (same bits)" ||
   bad "--resume after the planted output was moved away" "exit $rc"
 
+# --force over another user's output in a sticky directory, where only its owner can replace
+# it: refused before the run (exit 2, nothing computed, no journal), not at its commit.
+as cs-sec-attacker cp "$shared/ref.h5" "$shared/theirs.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml -o theirs.h5 --force --quiet) 2>stderr
+rc=$?
+((rc == 2)) && grep -q "sticky" stderr && [[ ! -e $shared/theirs.h5.journal && $(stat -c %u "$shared/theirs.h5") == "$auid" ]] &&
+  ok "--force over another user's output in a sticky directory is refused before the run (exit 2)" ||
+  bad "--force over another user's output in a sticky directory" "exit $rc"
+
 # Another user's link as OUT.h5.partial in a sticky directory: the victim cannot remove it, so
 # the run is refused; the link's target (the victim's own file) is untouched.
 as cs-sec-victim sh -c "echo keep >'$shared/victim_file'"

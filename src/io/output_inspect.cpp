@@ -12,7 +12,10 @@
 #include <fmt/format.h>
 
 namespace cs {
+namespace {
 
+// The root attribute `spec` of an HDF5 file; nullopt when the file cannot be read as a
+// contactsweep output. Serial HDF5, any rank.
 std::optional<std::string> read_spec_attribute(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // a foreign file is an answer, not an error
   std::optional<std::string> result;
@@ -43,6 +46,8 @@ std::optional<std::string> read_spec_attribute(const std::string& path) {
   H5Fclose(file);
   return result;
 }
+
+}  // namespace
 
 ExistingOutput inspect_existing_output(const std::string& path) {
   ExistingOutput out;

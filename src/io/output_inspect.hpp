@@ -7,10 +7,6 @@
 
 namespace cs {
 
-// The root attribute `spec` of an HDF5 file; nullopt when the file cannot be read as a
-// contactsweep output. Serial HDF5, any rank.
-std::optional<std::string> read_spec_attribute(const std::string& path);
-
 // An existing output as this user's finished work. Only a regular file the user owns counts,
 // opened without following a link and read through that descriptor: a file another user put
 // under the output's name (in a shared directory), or a link, says nothing of what this user

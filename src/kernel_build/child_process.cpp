@@ -42,8 +42,10 @@ std::string absolute_entries(const std::string& path) {
   return kept;
 }
 
-}  // namespace
-
+// Our environment without what would make the compiler read other files than ours: GCC's
+// search paths, which a cluster's module system may point at shared directories and which the
+// kernel's key does not cover, and PATH's relative and empty entries (the driver finds `as`
+// and `ld` on PATH). One entry "NAME=value" per variable.
 std::vector<std::string> compiler_environment() {
   std::vector<std::string> env;
   for (char** e = environ; *e != nullptr; ++e) {
@@ -56,6 +58,8 @@ std::vector<std::string> compiler_environment() {
   }
   return env;
 }
+
+}  // namespace
 
 int run_program(const std::vector<std::string>& args, int output_fd,
                 const std::vector<std::string>& extra_env, int directory_fd) {

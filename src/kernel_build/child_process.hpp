@@ -9,18 +9,11 @@ namespace cs {
 
 // Runs `args` with stdout and stderr on `output_fd`; returns its exit status. The child dies
 // with this process (a killed run leaves no compiler behind) and sees `extra_env` on top of
-// compiler_environment(). With `directory_fd` >= 0 it runs in that directory, entered by its
+// our environment less GCC's search variables (child_process.cpp, compiler_environment). With `directory_fd` >= 0 it runs in that directory, entered by its
 // descriptor: names relative to it then reach the directory this process checked and opened,
 // whatever becomes of the path to it (another user who can rename a parent cannot swap it).
 // Throws when the program cannot be started, saying why (not found, not executable, ...).
 int run_program(const std::vector<std::string>& args, int output_fd,
                 const std::vector<std::string>& extra_env = {}, int directory_fd = -1);
-
-// Our environment without what would make the compiler read other files than ours: GCC's
-// search paths (CPATH, CPLUS_INCLUDE_PATH, GCC_EXEC_PREFIX, COMPILER_PATH, LIBRARY_PATH, ...),
-// which a cluster's module system may point at shared directories and which the kernel's key
-// does not cover, and PATH's relative and empty entries (the driver finds `as` and `ld` on
-// PATH). One entry "NAME=value" per variable.
-std::vector<std::string> compiler_environment();
 
 }  // namespace cs
