@@ -270,6 +270,7 @@ if builtin:
 
 # ---- the orbit is a kernel of its own, built only for a table that needs it -----------------------
 RUN_ENTRY, ORBIT_ENTRY = "contactsweep_run_block", "contactsweep_attractor_orbit"
+STEP_ENTRY = "contactsweep_step_kernel"  # a run the program's runner makes (engine/step_kernel.hpp)
 
 
 def entries(cache):
@@ -279,7 +280,7 @@ def entries(cache):
         if name.startswith("kernel-") and name.endswith(".so"):
             symbols = subprocess.run(["nm", "-D", "--defined-only", os.path.join(cache, name)],
                                      capture_output=True, text=True, check=True).stdout.split()
-            found[name] = {e for e in (RUN_ENTRY, ORBIT_ENTRY) if e in symbols}
+            found[name] = {e for e in (RUN_ENTRY, ORBIT_ENTRY, STEP_ENTRY) if e in symbols}
     return found
 
 
@@ -288,13 +289,13 @@ split_cache = tempfile.mkdtemp(prefix="orbit_split_cache.", dir=work)
 trajectory_only = WELL.replace("basin = {}", "final_state = true")
 _, log = run(trajectory_only, "well_k_final_state", env_extra={"CONTACTSWEEP_CACHE": split_cache})
 found = entries(split_cache)
-check("K without a basin map: one kernel, the block runner's, and no orbit built",
-      list(found.values()) == [{RUN_ENTRY}] and "orbit kernel" not in log, f"{found}\n{log}")
+check("K without a basin map: one kernel, a step kernel, and no orbit built",
+      list(found.values()) == [{STEP_ENTRY}] and "orbit kernel" not in log, f"{found}\n{log}")
 _, log = run(WELL, "well_k_split", env_extra={"CONTACTSWEEP_CACHE": split_cache})
 orbits = [n for n, e in entries(split_cache).items() if e == {ORBIT_ENTRY}]
 check("K's basin map: its orbit kernel built beside the runner's, holding the orbit alone",
       len(orbits) == 1 and "built the orbit kernel of scene.K beside it" in log
-      and all(e in ({RUN_ENTRY}, {ORBIT_ENTRY}) for e in entries(split_cache).values()),
+      and all(e in ({RUN_ENTRY}, {ORBIT_ENTRY}, {STEP_ENTRY}) for e in entries(split_cache).values()),
       f"{entries(split_cache)}\n{log}")
 _, log = run(WELL.replace("n = 32", "n = 16"), "well_k_again",
              env_extra={"CONTACTSWEEP_CACHE": split_cache})

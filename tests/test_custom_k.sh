@@ -100,6 +100,66 @@ if run b_sync.toml -o b_sync.h5 2>"$work/stderr" && run k_sync.toml -o k_sync.h5
   check "sync of scene D written as K equals the built-in bit for bit" same_data b_sync.h5 k_sync.h5
 else bad "sync on K runs: $(cat "$work/stderr")"; fi
 
+# ---- which kernel a run builds: a step kernel where the program's runner does the rest --------
+# Every run above (no basin map, a fixed-step method) ran K through the program's own block
+# runner and a step kernel (engine/step_kernel.hpp: the step loop and the scene's per-lane
+# functions): the bit-for-bit comparisons above are the step kernel's against the built-ins.
+step_sources() { grep -l contactsweep_step_kernel $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l; }
+whole_sources() { grep -L contactsweep_step_kernel $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l; }
+check "runs without a basin map built step kernels only ($(step_sources) of them)" \
+  test "$(whole_sources)" = 0 -a "$(step_sources)" -ge 8
+# A K of more degrees of freedom than the program's runners (kStepKernelMaxDof = 3) builds a
+# whole kernel, and agrees with the step kernel of its one-dof part: with K_z constant and no z in
+# the forces, each (q_i, p_i) takes the same operations as a one-dof K's, bit for bit.
+cat >one.toml <<'EOF'
+[scene]
+K = "p^2/2 + q^2/2 + q^4/4 - gamma*z"
+gamma = 0.1
+[initial]
+p = 0.3
+[integrator]
+method = "symmetric_leapfrog"
+h = 0.01
+t_end = 10.0
+[grid]
+q_0 = { from = -1.5, to = 1.5, n = 4 }
+[measures]
+final_state = { vars = ["q", "p"] }
+EOF
+cat >four.toml <<'EOF'
+[scene]
+K = "p1^2/2 + q1^2/2 + q1^4/4 + p2^2/2 + q2^2/2 + q2^4/4 + p3^2/2 + q3^2/2 + q3^4/4 + p4^2/2 + q4^2/2 + q4^4/4 - gamma*z"
+gamma = 0.1
+[initial]
+q1 = -1.5
+q2 = -0.5
+q3 = 0.5
+q4 = 1.5
+p1 = 0.3
+p2 = 0.3
+p3 = 0.3
+p4 = 0.3
+[integrator]
+method = "symmetric_leapfrog"
+h = 0.01
+t_end = 10.0
+[measures]
+final_state = { vars = ["q1", "q2", "q3", "q4", "p1", "p2", "p3", "p4"] }
+EOF
+steps_before=$(step_sources) whole_before=$(whole_sources)
+if run one.toml -o one.h5 2>"$work/stderr" && run four.toml -o four.h5 2>"$work/stderr"; then
+  check "a four-dof K (a whole kernel) equals its one-dof parts (a step kernel) bit for bit" py "
+import h5py, numpy as np
+one, four = h5py.File('one.h5'), h5py.File('four.h5')
+for v in 'qp':
+    a = one['final_' + v][...]
+    b = np.array([four['final_%s%d' % (v, i)][...].item() for i in range(1, 5)])
+    assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), (v, a, b)
+"
+  check "the one-dof K built a step kernel, the four-dof K a whole one" \
+    test "$(step_sources)" = $((steps_before + 1)) -a "$(whole_sources)" = $((whole_before + 1))
+else bad "one- and four-dof K run"; fi
+
 # ---- time-dependent K against closed forms --------------------------------------------------
 # Forced damped oscillator, RK4 at h = 0.01 from t_start = 0.5 to 10.5: error ~ h⁴ ≈ 1e-8·C;
 # a time off by t_start would be O(F) = O(0.1).

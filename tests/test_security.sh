@@ -103,11 +103,11 @@ rc=$?
 ((rc == 0)) && same ref.h5 swapped.h5 && grep -q "built for another kernel" stderr &&
   ok "another K's kernel under this K's name is rebuilt, not loaded (same bits as the reference)" ||
   bad "another K's kernel under this K's name" "exit $rc"
-head -c 20000 "$lib" >truncated && cat truncated >"$lib"
+head -c $(($(stat -c %s "$lib") / 2)) "$lib" >truncated && cat truncated >"$lib"  # half of it
 "$bin" run k.toml -o truncated.h5 --quiet 2>stderr
 rc=$?
 ((rc == 0)) && same ref.h5 truncated.h5 && grep -q "not fit to load" stderr &&
-  ok "a kernel truncated to 20 kB is rebuilt (no SIGBUS, same bits)" || bad "a truncated kernel" "exit $rc"
+  ok "a kernel truncated to half its size is rebuilt (no SIGBUS, same bits)" || bad "a truncated kernel" "exit $rc"
 
 # A header planted in the cache (where the source used to be compiled) is not included.
 rm -rf cache_h && mkdir -m 0700 cache_h && mkdir -p cache_h/physics cache_h/engine

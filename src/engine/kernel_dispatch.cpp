@@ -6,11 +6,13 @@
 
 #include "engine/builtin_kernels.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/step_kernel_runner.hpp"
 #include "numerics/method_list.hpp"
 
 namespace cs {
 
 void run_block(const RunPlan& plan, BlockResults& results) {
+  if (plan.step_kernel != nullptr) return run_on_step_kernel(plan, results);
   if (plan.custom_kernel != nullptr) return plan.custom_kernel(plan, results);
   const auto run = [&]<class Method>() { run_builtin_scene<Method>(plan, results); };
   if (!Methods::with_named(plan.method.name, run))

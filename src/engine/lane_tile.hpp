@@ -55,7 +55,14 @@ struct AdaptiveLanes<Method, W, true> {
   }
 };
 
-template <Scene S, class Method, int W>
+// ParamFields, CoefFields: the tile's room for parameters and coefficients, the scene's and the
+// method's own by default. A step kernel's tile (engine/step_kernel.hpp) has the room of the
+// program's runner over a proxy scene, so that both sides agree on where every field is; a lane
+// then uses the first fields and leaves the rest alone.
+template <Scene S, class Method, int W,
+          int ParamFields = static_cast<int>(sizeof(ParamsOf<S, double>) / sizeof(double)),
+          int CoefFields =
+              static_cast<int>(sizeof(typename Method::template Coef<double>) / sizeof(double))>
 struct LaneTile {
   static constexpr int D = S::dof;
   static constexpr int width = W;
@@ -78,8 +85,8 @@ struct LaneTile {
   // the lane loop then reads each field with contiguous loads and vectorises. Stored as arrays
   // of structs (strided loads) they made per-lane runs (a grid axis over a scene parameter: g, gamma, a, omega) about
   // 4x slower per lane-step than uniform ones.
-  static constexpr int kParamFields = sizeof(Params) / sizeof(double);
-  static constexpr int kCoefFields = sizeof(Coef) / sizeof(double);
+  static constexpr int kParamFields = ParamFields;
+  static constexpr int kCoefFields = CoefFields;
   alignas(64) double param_field[kParamFields][W];
   alignas(64) double coef_field[kCoefFields][W];
   [[no_unique_address]] AdaptiveLanes<Method, W> ad;  // an adaptive method's alone
@@ -115,19 +122,26 @@ struct LaneTile {
 
  private:
   // Params and Coef are aggregates of doubles only (checked), so a lane's fields rebuild the
-  // struct bit for bit.
+  // struct bit for bit; a tile with more room than the struct uses its first fields.
   template <class Struct, int N>
   static Struct gather(const double (&field)[N][W], int i) {
-    static_assert(std::is_trivially_copyable_v<Struct> && sizeof(Struct) == N * sizeof(double));
-    std::array<double, N> values;
-    for (int j = 0; j < N; ++j) values[j] = field[j][i];
+    constexpr int n = fields_of<Struct, N>();
+    std::array<double, n> values;
+    for (int j = 0; j < n; ++j) values[j] = field[j][i];
     return std::bit_cast<Struct>(values);
   }
   template <class Struct, int N>
   static void scatter(double (&field)[N][W], int i, const Struct& s) {
-    static_assert(std::is_trivially_copyable_v<Struct> && sizeof(Struct) == N * sizeof(double));
-    const auto values = std::bit_cast<std::array<double, N>>(s);
-    for (int j = 0; j < N; ++j) field[j][i] = values[j];
+    constexpr int n = fields_of<Struct, N>();
+    const auto values = std::bit_cast<std::array<double, n>>(s);
+    for (int j = 0; j < n; ++j) field[j][i] = values[j];
+  }
+  template <class Struct, int N>
+  static constexpr int fields_of() {
+    constexpr int n = static_cast<int>(sizeof(Struct) / sizeof(double));
+    static_assert(std::is_trivially_copyable_v<Struct> && sizeof(Struct) == n * sizeof(double) &&
+                  n <= N);
+    return n;
   }
 };
 
@@ -148,8 +162,8 @@ template <int W>
 // The λ factors multiplied up by the hybrid leap-frog stay far from overflow if folded at
 // least every 64 steps; when does not matter for the bits (log_lambda, lane_state.hpp). Called
 // after step s of `steps`.
-template <Scene S, Carry carry, class Method, int W>
-[[gnu::always_inline]] inline void fold_lambda_products(LaneTile<S, Method, W>& t, int s,
+template <Scene S, Carry carry, class Method, int W, int PF, int CF>
+[[gnu::always_inline]] inline void fold_lambda_products(LaneTile<S, Method, W, PF, CF>& t, int s,
                                                         int steps) {
   if constexpr (carry.mu && !S::kz_constant) {
     if ((s & 63) == 63 || s + 1 == steps)
@@ -311,8 +325,8 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
 // Parameters come from `uniform` (one set for all lanes) when Uniform, else from the tile.
 // A time-dependent scene's lane is at time t_start + n·h, n from its own step count: the same
 // bits wherever the lane runs, and no drift from adding h up.
-template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterStep>
-inline void advance(LaneTile<S, Method, W>& t, int steps, const ParamsOf<S, double>& uniform,
+template <Scene S, class Method, Carry carry, bool Uniform, int W, int PF, int CF, class AfterStep>
+inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps, const ParamsOf<S, double>& uniform,
                     const typename Method::template Coef<double>& uniform_coef, double t_start,
                     double h, AfterStep&& after_step) {
   if constexpr (adaptive_method<Method>()) {

@@ -20,6 +20,8 @@
 
 namespace cs {
 
+struct StepKernel;  // engine/step_kernel.hpp
+
 // A cell's `status`. The values only grow: 0–2 keep their meaning in every file.
 //   diverged: q or p not finite, or beyond the scene's bound;
 //   breakdown: a λ factor 1 ± (h/2)K_z reached ≤ 0;
@@ -99,6 +101,9 @@ struct RunPlan {
   // The kernel of a custom scene (kernel_build/), built and loaded for this run; built-in
   // scenes are dispatched by name instead.
   void (*custom_kernel)(const RunPlan&, BlockResults&) = nullptr;
+  // A scene.K's step kernel (engine/step_kernel.hpp) where the program's runner does the rest
+  // (runs_on_step_kernel); it then runs the blocks, not custom_kernel.
+  const StepKernel* step_kernel = nullptr;
 
   RunPlan(const RunSpec& spec, const SceneInfo& scene, const MethodInfo& method);
 

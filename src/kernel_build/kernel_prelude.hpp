@@ -10,6 +10,7 @@
 
 #include "engine/attractor_orbit.hpp"
 #include "engine/block_runner.hpp"
+#include "engine/step_kernel_entry.hpp"
 #include "numerics/method_list.hpp"
 #include "physics/builtin_scenes.hpp"
 #include "physics/dual_math.hpp"

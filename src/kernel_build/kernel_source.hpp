@@ -51,6 +51,11 @@ inline constexpr const char* kMeasuresStruct = "RunMeasureFormulas";
 std::string kernel_source(const std::string& scene_header, const std::string& scene_struct,
                           const KernelChoice& choice);
 
+// A step kernel's complete source text (entry point kStepKernelEntry, engine/step_kernel.hpp):
+// the step loop and per-lane functions the program's runner calls (runs_on_step_kernel).
+std::string step_kernel_source(const std::string& scene_header, const std::string& scene_struct,
+                               const std::string& method, Carry carry, bool uniform_parameters);
+
 // The orbit kernel's complete source text (entry point kOrbitEntry).
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,
                                 const std::string& method);

@@ -43,9 +43,12 @@ struct LaneState {
 // product brought to canonical form — in [2^-511, 2^512) — is the same however often and
 // whenever the kernel folded: ln λ has the same bits wherever the lane ran. Where K_z is
 // constant the products stay 1 and mu is ln λ itself (no `+ log 1`, which turns −0 into +0).
+// A scene may answer itself (engine/proxy_scene.hpp: a step kernel's).
 template <Scene S, class T>
 inline T log_lambda(const LaneState<S::dof, T>& x) {
-  if constexpr (S::kz_constant) {
+  if constexpr (requires { S::log_lambda(x); }) {
+    return S::log_lambda(x);
+  } else if constexpr (S::kz_constant) {
     return x.mu;
   } else {
     constexpr double fold_log = 512 * 0x1.62e42fefa39efp-1;  // 512·ln 2 (an exact product)

@@ -24,6 +24,7 @@
 #include "engine/mappers/energy_trap_record.hpp"
 #include "engine/mappers/mapper_choice.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/step_kernel_runner.hpp"
 #include "formula/custom_scene.hpp"
 #include "io/log.hpp"
 #include "io/memory_budget.hpp"
@@ -314,6 +315,23 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
   return reinterpret_cast<KernelFn>(entry);
 }
 
+// A K's step kernel (engine/step_kernel.hpp) for runs the program's own runner can make
+// (runs_on_step_kernel): its step loop and per-lane functions alone, a fraction of a whole
+// kernel's compile (docs/performance.md). Compiled once per node and cached, as custom_kernel.
+const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
+  const SceneSource scene = scene_source(plan);
+  BuiltKernel built;
+  void* entry = prepare_kernel(step_kernel_source(scene.header, scene.struct_name, plan.spec.method,
+                                                  plan.carry, plan.grid.uniform_parameters()),
+                               kStepKernelEntry, comm, &built);
+  if (built.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
+        built.library);
+  const StepKernel* kernel = reinterpret_cast<const StepKernel* (*)()>(entry)();
+  check_step_kernel(*kernel, plan);
+  return kernel;
+}
+
 // The orbit kernel of the run's scene and method (kernel_source.hpp), built after the map when
 // its table needs orbits: every rank has the same table, so all or none get here.
 OrbitFn orbit_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
@@ -363,7 +381,12 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   check_output_names(plan);  // before the kernel is built and any work is done
   std::vector<std::unique_ptr<RunSpec>> slice_specs;
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
-  if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
+  std::vector<const RunPlan*> slice_plans;
+  for (const auto& slice : slices) slice_plans.push_back(slice.get());
+  if (runs_on_step_kernel(slice_plans)) {
+    const StepKernel* kernel = step_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->step_kernel = kernel;
+  } else if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
     const KernelFn kernel = custom_kernel(plan, slices, options, comm);
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }

@@ -1,0 +1,118 @@
+// The scene and method the program's block runner sees when a step kernel (step_kernel.hpp) does
+// the scene's work: every member calls the kernel's table, bound to the thread for the length of
+// a block (BoundStepKernel). The runner is the same template as for any scene, so a K's lanes are
+// loaded, looked at, sampled and written by the same code as a built-in scene's, and the numbers
+// that depend on K (the step, a lane's start, its coefficients, K itself) come from the kernel,
+// which computes them with the scene's own code: the same bits as a whole kernel
+// (tests/test_custom_k.sh).
+//
+// What the runner reads of the scene's traits is chosen to be right for every scene: it checks a
+// lane's breakdown flag (zero where K_z is constant) and keeps the lanes' step counts (read by
+// a time-dependent K's step loop alone). ln λ comes from the kernel, which knows which form the
+// lane carries. The tile's layout is the kernel's (LaneTile with the step kernel's room).
+#pragma once
+
+#include <algorithm>
+#include <concepts>
+
+#include "engine/lane_tile.hpp"
+#include "engine/step_kernel.hpp"
+#include "numerics/lane_state.hpp"
+#include "physics/scene_concept.hpp"
+
+namespace cs {
+
+// The step kernel of the block this thread runs, and the count of its scene's parameters.
+struct StepKernelBinding {
+  const StepKernel* kernel = nullptr;
+  int parameters = 0;
+};
+inline thread_local StepKernelBinding bound_step_kernel;
+
+inline const StepKernel& step_kernel() { return *bound_step_kernel.kernel; }
+
+class BoundStepKernel {
+ public:
+  BoundStepKernel(const StepKernel& kernel, int parameters) : previous_(bound_step_kernel) {
+    bound_step_kernel = {&kernel, parameters};
+  }
+  ~BoundStepKernel() { bound_step_kernel = previous_; }
+  BoundStepKernel(const BoundStepKernel&) = delete;
+  BoundStepKernel& operator=(const BoundStepKernel&) = delete;
+
+ private:
+  StepKernelBinding previous_;
+};
+
+template <int D>
+struct ProxyScene {
+  static constexpr int dof = D;
+  static constexpr bool is_proxy = true;
+  static constexpr bool z_feeds_back = false;  // read by the step loop alone, in the kernel
+  static constexpr bool kz_constant = false;   // the runner then checks the breakdown flag
+  static constexpr bool time_dependent = true;  // the runner then keeps the lanes' step counts
+
+  template <class T>
+  struct Params {
+    T v[kStepKernelParamFields];
+  };
+  // The scene's parameters from `values` (its own count of them), the rest of the room zero.
+  template <class T>
+  static Params<T> params_from(const T* values) {
+    Params<T> c{};
+    std::copy_n(values, bound_step_kernel.parameters, c.v);
+    return c;
+  }
+  // K at a state; the runner asks for no partial of it (the kernel's defined_at and the
+  // method's start and coefficients take them there).
+  template <class X>
+  static double K(const X& x, const Params<double>& c) {
+    static_assert(std::same_as<X, StateView<double>>, "a proxy scene evaluates K, not its partials");
+    return step_kernel().K(x.q, x.p, x.z, x.t, c.v);
+  }
+  static bool diverged(const double* q, const double* p) { return step_kernel().diverged(q, p); }
+  static void natural_frequencies(const Params<double>& c, double* omega) {
+    step_kernel().natural_frequencies(c.v, omega);
+  }
+  // The scene's own answers (lane_health.hpp's defined_at, lane_state.hpp's log_lambda).
+  static bool defined_at(const LaneState<D>& x, const Params<double>& c) {
+    return step_kernel().defined_at(&x, c.v);
+  }
+  static double log_lambda(const LaneState<D>& x) { return step_kernel().log_lambda(&x); }
+};
+
+template <class S>
+concept ProxiedScene = Scene<S> && requires { requires S::is_proxy; };
+
+struct ProxyMethod {
+  template <class T>
+  struct Coef {
+    T v[kStepKernelCoefFields];
+  };
+  template <Scene S>
+  static Coef<double> coefficients(double h, const ParamsOf<S, double>& c,
+                                   const LaneState<S::dof>& x) {
+    Coef<double> k{};
+    step_kernel().coefficients(h, c.v, &x, k.v);
+    return k;
+  }
+  template <Scene S>
+  static bool breaks_down(const Coef<double>& k) {
+    return step_kernel().breaks_down(k.v);
+  }
+  template <Scene S, class C>
+  static void start(LaneState<S::dof>& x, const C& c) {
+    step_kernel().start(&x, c.v);
+  }
+};
+
+// The step loop: the kernel's, chosen over lane_tile.hpp's as the more constrained template.
+template <ProxiedScene S, class Method, Carry carry, bool Uniform, int W, int PF, int CF,
+          class AfterStep>
+inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps, const ParamsOf<S, double>& uniform,
+                    const typename Method::template Coef<double>& uniform_coef, double t_start,
+                    double h, AfterStep&&) {
+  step_kernel().advance(&t, steps, uniform.v, uniform_coef.v, t_start, h);
+}
+
+}  // namespace cs

@@ -1,0 +1,55 @@
+// A step kernel: what a scene.K compiled at run time hands the program for the runs whose block
+// runner the program already holds (engine/step_kernel_runner.hpp). Most of a kernel's compile
+// went into instantiating the block runner for its scene (docs/performance.md, "First build of a
+// new K"), though little of the runner depends on the scene. A step kernel holds only what does:
+// the tile's step loop (the hot path, called once per chunk) and the scene's per-lane functions
+// (a lane's start, its method coefficients, K at a state; called once per lane or per sample).
+// The program runs the same BlockRunner over a proxy scene (engine/proxy_scene.hpp) whose
+// members call this table.
+//
+// Both sides lay the tile out alike: room for kStepKernelParamFields parameters and
+// kStepKernelCoefFields coefficients whatever the scene and method use (LaneTile's field
+// capacities), checked through tile_bytes. The kernel's key names the program that built it
+// (kernel_cache.hpp), so a table never meets another build's runner; the checks catch a mistake
+// in this file, not an attack.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace cs {
+
+inline constexpr std::uint32_t kStepKernelAbi = 1;
+inline constexpr const char* kStepKernelEntry = "contactsweep_step_kernel";
+// The runner's tile: its lanes, and its room for a scene's parameters and a method's
+// coefficients (contact_splitting6 has 31). A K with more parameters, or more than
+// kStepKernelMaxDof degrees of freedom, gets a whole kernel as before.
+inline constexpr int kStepKernelWidth = 64;
+inline constexpr int kStepKernelParamFields = 16;
+inline constexpr int kStepKernelCoefFields = 32;
+inline constexpr int kStepKernelMaxDof = 3;
+
+// Parameters and coefficients travel as kStepKernelParamFields and kStepKernelCoefFields
+// doubles, of which the scene's and the method's own are the first; lane states as
+// LaneState<dof> (numerics/lane_state.hpp), the same type on both sides.
+struct StepKernel {
+  std::uint32_t abi;
+  int dof;
+  int param_fields;  // the scene's Params (its parameters, or one unused field where it has none)
+  int coef_fields;   // the method's Coef
+  std::size_t tile_bytes;
+  // The tile (LaneTile of the program's proxy scene) `steps` steps on; parameters and
+  // coefficients from the tile's lanes when the kernel was built for per-lane parameters.
+  void (*advance)(void* tile, int steps, const double* uniform_params, const double* uniform_coef,
+                  double t_start, double h);
+  void (*start)(void* lane_state, const double* params);  // Method::start
+  void (*coefficients)(double h, const double* params, const void* lane_state, double* coef);
+  bool (*breaks_down)(const double* coef);
+  bool (*defined_at)(const void* lane_state, const double* params);  // engine/lane_health.hpp
+  double (*K)(const double* q, const double* p, double z, double t, const double* params);
+  double (*log_lambda)(const void* lane_state);
+  bool (*diverged)(const double* q, const double* p);
+  void (*natural_frequencies)(const double* params, double* omega);
+};
+
+}  // namespace cs

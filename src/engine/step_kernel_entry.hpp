@@ -1,0 +1,73 @@
+// The kernel's side of a step kernel (step_kernel.hpp): the table of one scene, method, carried
+// state and parameter layout, included only by a step kernel's generated source
+// (kernel_build/kernel_source.cpp). Each entry is the scene's own template code, the code a whole
+// kernel's runner would have inlined: the same bits.
+#pragma once
+
+#include <cstring>
+
+#include "engine/lane_health.hpp"
+#include "engine/lane_tile.hpp"
+#include "engine/proxy_scene.hpp"
+#include "engine/step_kernel.hpp"
+#include "numerics/lane_state.hpp"
+#include "physics/partials.hpp"
+
+namespace cs {
+
+template <Scene S, class Method, Carry carry, bool Uniform>
+struct StepKernelOf {
+  static constexpr int D = S::dof;
+  using Params = ParamsOf<S, double>;
+  using Coef = typename Method::template Coef<double>;
+  using Tile = LaneTile<S, Method, kStepKernelWidth, kStepKernelParamFields, kStepKernelCoefFields>;
+  static constexpr int kParamFields = static_cast<int>(sizeof(Params) / sizeof(double));
+  static constexpr int kCoefFields = static_cast<int>(sizeof(Coef) / sizeof(double));
+  static_assert(D <= kStepKernelMaxDof && kParamFields <= kStepKernelParamFields &&
+                kCoefFields <= kStepKernelCoefFields && !adaptive_method<Method>());
+  // The program's tile, field for field (its proxy scene's, with the same room).
+  static_assert(sizeof(Tile) == sizeof(LaneTile<ProxyScene<D>, ProxyMethod, kStepKernelWidth>));
+
+  static Params params(const double* values) {
+    Params c;
+    std::memcpy(&c, values, sizeof c);
+    return c;
+  }
+  static LaneState<D>& state(void* x) { return *static_cast<LaneState<D>*>(x); }
+  static const LaneState<D>& state(const void* x) { return *static_cast<const LaneState<D>*>(x); }
+
+  static void advance(void* tile, int steps, const double* uniform_params,
+                      const double* uniform_coef, double t_start, double h) {
+    Coef k;
+    std::memcpy(&k, uniform_coef, sizeof k);
+    cs::advance<S, Method, carry, Uniform>(*static_cast<Tile*>(tile), steps, params(uniform_params),
+                                           k, t_start, h, [](int) {});
+  }
+  static void start(void* x, const double* c) { Method::template start<S>(state(x), params(c)); }
+  static void coefficients(double h, const double* c, const void* x, double* out) {
+    const Coef k = Method::template coefficients<S>(h, params(c), state(x));
+    std::memcpy(out, &k, sizeof k);
+  }
+  static bool breaks_down(const double* coef) {
+    Coef k;
+    std::memcpy(&k, coef, sizeof k);
+    return Method::template breaks_down<S>(k);
+  }
+  static bool defined_at(const void* x, const double* c) {
+    return cs::defined_at<S>(state(x), params(c));
+  }
+  static double K(const double* q, const double* p, double z, double t, const double* c) {
+    return cs::K<S>(q, p, z, params(c), t);
+  }
+  static double log_lambda(const void* x) { return cs::log_lambda<S>(state(x)); }
+  static bool diverged(const double* q, const double* p) { return S::diverged(q, p); }
+  static void natural_frequencies(const double* c, double* omega) {
+    cs::natural_frequencies<S>(params(c), omega);
+  }
+
+  static constexpr StepKernel table{kStepKernelAbi, D, kParamFields, kCoefFields, sizeof(Tile),
+                                    &advance, &start, &coefficients, &breaks_down, &defined_at,
+                                    &K, &log_lambda, &diverged, &natural_frequencies};
+};
+
+}  // namespace cs

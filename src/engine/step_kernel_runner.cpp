@@ -1,0 +1,84 @@
+#include "engine/step_kernel_runner.hpp"
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "engine/block_runner.hpp"
+#include "engine/proxy_scene.hpp"
+#include "formula/measure_formulas.hpp"
+#include "numerics/method_list.hpp"
+
+namespace cs {
+namespace {
+
+template <int D>
+using ProxyTile = LaneTile<ProxyScene<D>, ProxyMethod, kStepKernelWidth>;
+
+std::size_t proxy_tile_bytes(int dof) {
+  switch (dof) {
+    case 1: return sizeof(ProxyTile<1>);
+    case 2: return sizeof(ProxyTile<2>);
+    case 3: return sizeof(ProxyTile<3>);
+    default: return 0;
+  }
+}
+
+int coefficient_count(const std::string& method) {
+  int count = kStepKernelCoefFields + 1;  // an unknown method: no step kernel
+  Methods::with_named(method, [&]<class Method>() {
+    count = static_cast<int>(sizeof(typename Method::template Coef<double>) / sizeof(double));
+  });
+  return count;
+}
+
+// The runner reads nothing of the carried state but the tangent (none here): the kernel's step
+// loop carries what the plan asks, so one runner per count of degrees of freedom and layout.
+template <int D, bool Uniform>
+void run_proxy(const RunPlan& plan, BlockResults& results) {
+  using Runner = BlockRunner<ProxyScene<D>, ProxyMethod, Carry{false, false}, Uniform,
+                             NoMeasureFormulas, MapperChoice{false, false, false, false}, true>;
+  std::make_unique<Runner>(plan, results)->run();
+}
+
+template <int D>
+void run_proxy(const RunPlan& plan, BlockResults& results) {
+  if (plan.grid.uniform_parameters()) run_proxy<D, true>(plan, results);
+  else run_proxy<D, false>(plan, results);
+}
+
+}  // namespace
+
+bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
+  for (const RunPlan* plan : plans) {
+    if (!plan->spec.custom || plan->method.adaptive || plan->carry.tangent ||
+        has_measure_formulas(plan->spec.measures) || plan->map.basin >= 0 ||
+        plan->map.trap_verdict >= 0 || plan->scene.dof > kStepKernelMaxDof ||
+        plan->scene.parameters.size() > static_cast<std::size_t>(kStepKernelParamFields) ||
+        coefficient_count(plan->spec.method) > kStepKernelCoefFields)
+      return false;
+  }
+  return !plans.empty();
+}
+
+void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
+  if (kernel.abi != kStepKernelAbi || kernel.dof != plan.scene.dof ||
+      kernel.param_fields < static_cast<int>(plan.scene.parameters.size()) ||
+      kernel.param_fields > kStepKernelParamFields ||
+      kernel.coef_fields != coefficient_count(plan.spec.method) ||
+      kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof))
+    throw std::logic_error("the step kernel of scene.K does not match this program's runner");
+}
+
+void run_on_step_kernel(const RunPlan& plan, BlockResults& results) {
+  const BoundStepKernel bound(*plan.step_kernel, static_cast<int>(plan.scene.parameters.size()));
+  switch (plan.scene.dof) {
+    case 1: return run_proxy<1>(plan, results);
+    case 2: return run_proxy<2>(plan, results);
+    case 3: return run_proxy<3>(plan, results);
+    default: throw std::logic_error("no step-kernel runner for " + std::to_string(plan.scene.dof) +
+                                    " degrees of freedom");
+  }
+}
+
+}  // namespace cs
