@@ -314,6 +314,29 @@ rc=$?
   ok "without HOME the kernel cache is the passwd home's (~/.cache 0700), never /tmp/.cache" ||
   bad "without HOME" "exit $rc"
 
+# Headers planted where an installed program would keep them. The program looks for its headers
+# up to 4 directories above itself (PREFIX/share for PREFIX/bin/contactsweep, and for the Python
+# module PREFIX/lib/python3.X/dist-packages/contactsweep); for a copy that is not installed, 4
+# levels below a shared directory (a build tree in /scratch/you/src/contactsweep/build, or the
+# module of a checkout /scratch/contactsweep), that is a directory anyone can create. The
+# planted copy has the right HEADERS_SHA256 (any user can read it) and a constructor: never
+# compiled in, a warning names it, and the build tree's snapshot is used (same bits).
+as cs-sec-victim mkdir -p "$shared/v/src/cs/build" && as cs-sec-victim cp "$bin" "$shared/v/src/cs/build/contactsweep"
+as cs-sec-attacker mkdir -p "$shared/share/contactsweep"
+as cs-sec-attacker cp -r "$(dirname "$bin")/kernel_include" "$shared/share/contactsweep/include"
+as cs-sec-attacker rm -f "$shared/share/contactsweep/include/kernel_build/kernel_prelude.hpp.gch"
+as cs-sec-attacker sh -c "cat >>'$shared/share/contactsweep/include/kernel_build/kernel_prelude.hpp'" <<EOF
+#include <cstdio>
+__attribute__((constructor)) static void planted(void) { if (FILE* f = std::fopen("$shared/PWNED_HEADERS", "w")) std::fclose(f); }
+EOF
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$work/victim_home/headers_cache" \
+  "$shared/v/src/cs/build/contactsweep" run k.toml -o victim5.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && [[ ! -e $shared/PWNED_HEADERS ]] && same ref.h5 "$shared/victim5.h5" &&
+  grep -q "not compiling kernels against the headers in '$shared/share/contactsweep/include'" stderr &&
+  ok "headers another user planted where an installed program's would be are not compiled in (same bits)" ||
+  bad "headers planted where an installed program's would be" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
+
 # The journal of an output in a shared directory, made first by another user.
 as cs-sec-attacker mkdir -m 0700 "$shared/map.h5.journal"
 as cs-sec-attacker sh -c "echo mine >'$shared/map.h5.journal/block_0.bin'"

@@ -97,10 +97,44 @@ std::vector<std::string> host_library() {
   return {code.string()};
 }
 
+// Why the headers in `dir` (canonical) may be another user's, or "" when only root and we can
+// have put them there: `dir` and everything in it is root's or ours and nobody else can write to
+// it, and so is every directory above it, but for sticky ones (/tmp: others may add names there,
+// not replace ours). The installed candidates below are found by climbing from the program's
+// directory, up to 4 levels: for a program or module that is not installed (a build tree 4
+// levels below /tmp, a checkout in a shared /scratch) they are directories anyone may create.
+std::string untrusted_headers(const fs::path& dir) {
+  const uid_t me = ::geteuid();
+  const auto problem = [me](const fs::path& path, bool above) -> std::string {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) != 0)
+      return fmt::format("'{}' cannot be examined ({})", path.string(), errno_text(errno));
+    if (status.st_uid != 0 && status.st_uid != me)
+      return fmt::format("'{}' belongs to user id {}", path.string(), status.st_uid);
+    if ((status.st_mode & (S_IWGRP | S_IWOTH)) != 0 &&
+        !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
+      return fmt::format("others can write to '{}'", path.string());
+    return {};
+  };
+  for (fs::path up = dir.parent_path();; up = up.parent_path()) {
+    if (std::string why = problem(up, true); !why.empty()) return why;
+    if (up == up.root_path() || up.empty()) break;
+  }
+  if (std::string why = problem(dir, false); !why.empty()) return why;
+  std::error_code error;
+  for (fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink,
+                                           error), end;
+       !error && it != end; it.increment(error))
+    if (std::string why = problem(it->path(), false); !why.empty()) return why;
+  if (error) return fmt::format("'{}' cannot be listed ({})", dir.string(), error.message());
+  return {};
+}
+
 // The headers a kernel includes: the snapshot installed beside the program (PREFIX/bin/
 // contactsweep -> PREFIX/share/contactsweep/include) or the module (4 levels below PREFIX),
-// else the build tree's.
-std::string header_directory() {
+// else the build tree's. An installed-looking directory that another user may have made is
+// passed over, with a warning: its headers would be compiled into a kernel this process loads.
+std::string find_header_directory() {
   std::error_code error;
   const fs::path code = code_file();
   if (code.empty()) return toolchain_config::kSnapshotIncludeDir;
@@ -108,10 +142,23 @@ std::string header_directory() {
        {fs::path(toolchain_config::kInstalledIncludeDir),
         fs::path("../../..") / toolchain_config::kInstalledIncludeDir}) {
     const fs::path installed = code.parent_path() / relative;
-    if (fs::exists(installed / "HEADERS_SHA256", error))
-      return fs::weakly_canonical(installed, error).string();
+    if (!fs::exists(installed / "HEADERS_SHA256", error)) continue;
+    const fs::path canonical = fs::weakly_canonical(installed, error);
+    if (const std::string why = untrusted_headers(canonical); !why.empty()) {
+      log("contactsweep: warning: not compiling kernels against the headers in '{}': {}, so "
+          "another user may have put them there",
+          canonical.string(), why);
+      continue;
+    }
+    return canonical.string();
   }
   return toolchain_config::kSnapshotIncludeDir;
+}
+
+// Looked for once a process: the program's place does not change while it runs.
+std::string header_directory() {
+  static const std::string dir = find_header_directory();
+  return dir;
 }
 
 // Whether the flags build for the CPU they run on: then the kernel is fit for this kind of CPU
