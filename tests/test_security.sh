@@ -254,6 +254,18 @@ rc=$?
   ok "COMPILER_PATH, GCC_EXEC_PREFIX, CPATH and CPLUS_INCLUDE_PATH never reach the compiler (same bits)" ||
   bad "GCC's search variables reach the compiler" "exit $rc"
 
+# The compiler itself named without a slash (CONTACTSWEEP_CXX=g++) is looked up on PATH's
+# absolute entries only: `g++ --version` runs in the user's directory (an output's shared one),
+# where a relative PATH entry would start the g++ planted there.
+rm -rf planted_cwd cache_p && mkdir planted_cwd && mkdir -m 0700 cache_p
+printf '#!/bin/sh\necho ran >%s/planted_cwd/CXX_RAN\nexit 1\n' "$work" >planted_cwd/g++ && chmod +x planted_cwd/g++
+(cd planted_cwd && PATH=".:$PATH" CONTACTSWEEP_CXX=g++ CONTACTSWEEP_CACHE=$work/cache_p \
+  "$bin" run ../k.toml -o ../cwd.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 cwd.h5 && [[ ! -e planted_cwd/CXX_RAN ]] &&
+  ok "CONTACTSWEEP_CXX=g++ with '.' on PATH never starts a g++ in the current directory (same bits)" ||
+  bad "CONTACTSWEEP_CXX=g++ with '.' on PATH" "exit $rc$([[ -e planted_cwd/CXX_RAN ]] && echo ', the planted g++ ran')"
+
 # ---- as other users: a second uid plants, a third runs ------------------------------------------
 if ((EUID != 0)) || ! command -v useradd >/dev/null || ! command -v setpriv >/dev/null; then
   skip "cases planted by another user" "needs root to create the users"
