@@ -97,19 +97,21 @@ std::vector<std::string> host_library() {
   return {code.string()};
 }
 
-// Why the headers in `dir` (canonical) may be another user's, or "" when only root and we can
-// have put them there: `dir` and everything in it is root's or ours and nobody else can write to
-// it, and so is every directory above it, but for sticky ones (/tmp: others may add names there,
-// not replace ours). The installed candidates below are found by climbing from the program's
-// directory, up to 4 levels: for a program or module that is not installed (a build tree 4
-// levels below /tmp, a checkout in a shared /scratch) they are directories anyone may create.
-std::string untrusted_headers(const fs::path& dir) {
+// Why the headers in `dir` (canonical) may be another user's, or "" when only root, we and the
+// owner of the code file running (`code_owner`, whose code we run anyway: a software tree an
+// admin account installed) can have put them there: `dir` and everything in it is theirs and
+// nobody else can write to it, and so is every directory above it, but for sticky ones (/tmp:
+// others may add names there, not replace ours). The installed candidates below are found by
+// climbing from the program's directory, up to 4 levels: for a program or module that is not
+// installed (a build tree 4 levels below /tmp, a checkout in a shared /scratch) they are
+// directories anyone may create.
+std::string untrusted_headers(const fs::path& dir, uid_t code_owner) {
   const uid_t me = ::geteuid();
-  const auto problem = [me](const fs::path& path, bool above) -> std::string {
+  const auto problem = [me, code_owner](const fs::path& path, bool above) -> std::string {
     struct stat status {};
     if (::stat(path.c_str(), &status) != 0)
       return fmt::format("'{}' cannot be examined ({})", path.string(), errno_text(errno));
-    if (status.st_uid != 0 && status.st_uid != me)
+    if (status.st_uid != 0 && status.st_uid != me && status.st_uid != code_owner)
       return fmt::format("'{}' belongs to user id {}", path.string(), status.st_uid);
     if ((status.st_mode & (S_IWGRP | S_IWOTH)) != 0 &&
         !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
@@ -137,14 +139,16 @@ std::string untrusted_headers(const fs::path& dir) {
 std::string find_header_directory() {
   std::error_code error;
   const fs::path code = code_file();
-  if (code.empty()) return toolchain_config::kSnapshotIncludeDir;
+  struct stat code_status {};
+  if (code.empty() || ::stat(code.c_str(), &code_status) != 0)
+    return toolchain_config::kSnapshotIncludeDir;
   for (const fs::path& relative :
        {fs::path(toolchain_config::kInstalledIncludeDir),
         fs::path("../../..") / toolchain_config::kInstalledIncludeDir}) {
     const fs::path installed = code.parent_path() / relative;
     if (!fs::exists(installed / "HEADERS_SHA256", error)) continue;
     const fs::path canonical = fs::weakly_canonical(installed, error);
-    if (const std::string why = untrusted_headers(canonical); !why.empty()) {
+    if (const std::string why = untrusted_headers(canonical, code_status.st_uid); !why.empty()) {
       log("contactsweep: warning: not compiling kernels against the headers in '{}': {}, so "
           "another user may have put them there",
           canonical.string(), why);
