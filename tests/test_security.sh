@@ -349,6 +349,26 @@ rc=$?
   ok "headers another user planted where an installed program's would be are not compiled in (same bits)" ||
   bad "headers planted where an installed program's would be" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
 
+# The build tree's snapshot is named by its absolute path: a program copied elsewhere (~/bin)
+# from a build tree in /tmp that is then removed finds whatever another user makes under that
+# name. Played in a private mount namespace, the planted copy bound over the snapshot's path:
+# refused (exit 1, nothing written), never compiled in.
+snapshot_dir=$(dirname "$bin")/kernel_include
+mkdir -p "$shared/copied" && cp "$bin" "$shared/copied/contactsweep" && chmod 755 "$shared/copied/contactsweep"
+if unshare -m --propagation private true 2>/dev/null; then
+  (cd "$shared" && unshare -m --propagation private sh -c \
+    'mount --bind "$1" "$2" && exec setpriv --reuid="$3" --regid="$4" --clear-groups env CONTACTSWEEP_CACHE="$5" "$6" run k.toml -o victim6.h5 --quiet' \
+    sh "$shared/share/contactsweep/include" "$snapshot_dir" "$vuid" "$(id -g cs-sec-victim)" \
+    "$work/victim_home/snapshot_cache" "$shared/copied/contactsweep") 2>stderr
+  rc=$?
+  ((rc == 1)) && [[ ! -e $shared/PWNED_HEADERS && ! -e $shared/victim6.h5 ]] &&
+    grep -q "not compiling kernels against the headers in '$snapshot_dir': .* belongs to user id $auid" stderr &&
+    ok "a snapshot directory another user made under the build tree's name is refused (exit 1), never compiled in" ||
+    bad "a snapshot directory another user made under the build tree's name" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
+else
+  skip "a snapshot directory another user made under the build tree's name" "no private mount namespace"
+fi
+
 # The journal of an output in a shared directory, made first by another user.
 as cs-sec-attacker mkdir -m 0700 "$shared/map.h5.journal"
 as cs-sec-attacker sh -c "echo mine >'$shared/map.h5.journal/block_0.bin'"
