@@ -68,12 +68,14 @@ std::vector<std::string> compiler_environment() {
 std::string program_file(const std::string& program) {
   if (program.find('/') != std::string::npos) return program;
   const char* path = std::getenv("PATH");
-  const std::string dirs = absolute_entries(path != nullptr ? path : "/bin:/usr/bin");  // glibc's default
+  const std::string dirs =
+      absolute_entries(path != nullptr ? path : "/bin:/usr/bin");  // glibc's default
   for (std::size_t begin = 0; begin < dirs.size();) {
     const std::size_t end = std::min(dirs.find(':', begin), dirs.size());
     const std::string file = dirs.substr(begin, end - begin) + "/" + program;
     struct stat status {};
-    if (::stat(file.c_str(), &status) == 0 && S_ISREG(status.st_mode) && ::access(file.c_str(), X_OK) == 0)
+    if (::stat(file.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
+        ::access(file.c_str(), X_OK) == 0)
       return file;
     begin = end + 1;
   }

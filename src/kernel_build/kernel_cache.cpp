@@ -110,10 +110,12 @@ std::vector<std::string> host_library() {
 std::string untrusted_headers(const std::string& dir, bool writable_by_them_alone) {
   std::error_code error;
   const fs::path code = code_file();
-  const fs::path code_dir = code.empty() ? fs::path() : fs::weakly_canonical(code.parent_path(), error);
+  const fs::path code_dir =
+      code.empty() ? fs::path() : fs::weakly_canonical(code.parent_path(), error);
   struct stat code_status {};
   const uid_t me = ::geteuid(),
-              code_owner = !code.empty() && ::stat(code.c_str(), &code_status) == 0 ? code_status.st_uid : 0;
+              code_owner =
+                  !code.empty() && ::stat(code.c_str(), &code_status) == 0 ? code_status.st_uid : 0;
   const auto problem = [&](const fs::path& path, bool above) -> std::string {
     struct stat status {};
     if (::stat(path.c_str(), &status) != 0)
@@ -127,16 +129,19 @@ std::string untrusted_headers(const std::string& dir, bool writable_by_them_alon
   };
   const auto above_code = [&](const fs::path& path) {
     return !code_dir.empty() &&
-           std::mismatch(path.begin(), path.end(), code_dir.begin(), code_dir.end()).first == path.end();
+           std::mismatch(path.begin(), path.end(), code_dir.begin(), code_dir.end()).first ==
+               path.end();
   };
   const fs::path canonical = fs::weakly_canonical(dir, error);
-  for (fs::path up = canonical.parent_path(); !up.empty() && !above_code(up); up = up.parent_path()) {
+  for (fs::path up = canonical.parent_path(); !up.empty() && !above_code(up);
+       up = up.parent_path()) {
     if (std::string why = problem(up, true); !why.empty()) return why;
     if (up == up.root_path()) break;
   }
   if (std::string why = problem(canonical, false); !why.empty()) return why;
-  for (fs::recursive_directory_iterator it(canonical, fs::directory_options::follow_directory_symlink,
-                                           error), end;
+  for (fs::recursive_directory_iterator
+           it(canonical, fs::directory_options::follow_directory_symlink, error),
+       end;
        !error && it != end; it.increment(error))
     if (std::string why = problem(it->path(), false); !why.empty()) return why;
   if (error) return fmt::format("'{}' cannot be listed ({})", canonical.string(), error.message());
@@ -167,7 +172,8 @@ std::string find_header_directory() {
   }
   // Canonical, as the one checked: a link on the way is not followed again by the compiler.
   const fs::path snapshot = fs::weakly_canonical(toolchain_config::kSnapshotIncludeDir, error);
-  return error || snapshot.empty() ? std::string(toolchain_config::kSnapshotIncludeDir) : snapshot.string();
+  return error || snapshot.empty() ? std::string(toolchain_config::kSnapshotIncludeDir)
+                                   : snapshot.string();
 }
 
 // Looked for once a process: the program's place does not change while it runs.
