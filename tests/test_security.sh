@@ -254,6 +254,18 @@ rc=$?
   ok "COMPILER_PATH, GCC_EXEC_PREFIX, CPATH and CPLUS_INCLUDE_PATH never reach the compiler (same bits)" ||
   bad "GCC's search variables reach the compiler" "exit $rc"
 
+# The compiler itself named without a slash (CONTACTSWEEP_CXX=g++) is looked up on PATH's
+# absolute entries only: `g++ --version` runs in the user's directory (an output's shared one),
+# where a relative PATH entry would start the g++ planted there.
+rm -rf planted_cwd cache_p && mkdir planted_cwd && mkdir -m 0700 cache_p
+printf '#!/bin/sh\necho ran >%s/planted_cwd/CXX_RAN\nexit 1\n' "$work" >planted_cwd/g++ && chmod +x planted_cwd/g++
+(cd planted_cwd && PATH=".:$PATH" CONTACTSWEEP_CXX=g++ CONTACTSWEEP_CACHE=$work/cache_p \
+  "$bin" run ../k.toml -o ../cwd.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 cwd.h5 && [[ ! -e planted_cwd/CXX_RAN ]] &&
+  ok "CONTACTSWEEP_CXX=g++ with '.' on PATH never starts a g++ in the current directory (same bits)" ||
+  bad "CONTACTSWEEP_CXX=g++ with '.' on PATH" "exit $rc$([[ -e planted_cwd/CXX_RAN ]] && echo ', the planted g++ ran')"
+
 # ---- as other users: a second uid plants, a third runs ------------------------------------------
 if ((EUID != 0)) || ! command -v useradd >/dev/null || ! command -v setpriv >/dev/null; then
   skip "cases planted by another user" "needs root to create the users"
@@ -313,6 +325,49 @@ rc=$?
   [[ $(stat -c %a victim_home/.cache) == 700 ]] &&
   ok "without HOME the kernel cache is the passwd home's (~/.cache 0700), never /tmp/.cache" ||
   bad "without HOME" "exit $rc"
+
+# Headers planted where an installed program would keep them. The program looks for its headers
+# up to 4 directories above itself (PREFIX/share for PREFIX/bin/contactsweep, and for the Python
+# module PREFIX/lib/python3.X/dist-packages/contactsweep); for a copy that is not installed, 4
+# levels below a shared directory (a build tree in /scratch/you/src/contactsweep/build, or the
+# module of a checkout /scratch/contactsweep), that is a directory anyone can create. The
+# planted copy has the right HEADERS_SHA256 (any user can read it) and a constructor: never
+# compiled in, a warning names it, and the build tree's snapshot is used (same bits).
+as cs-sec-victim mkdir -p "$shared/v/src/cs/build" && as cs-sec-victim cp "$bin" "$shared/v/src/cs/build/contactsweep"
+as cs-sec-attacker mkdir -p "$shared/share/contactsweep"
+as cs-sec-attacker cp -r "$(dirname "$bin")/kernel_include" "$shared/share/contactsweep/include"
+as cs-sec-attacker rm -f "$shared/share/contactsweep/include/kernel_build/kernel_prelude.hpp.gch"
+as cs-sec-attacker sh -c "cat >>'$shared/share/contactsweep/include/kernel_build/kernel_prelude.hpp'" <<EOF
+#include <cstdio>
+__attribute__((constructor)) static void planted(void) { if (FILE* f = std::fopen("$shared/PWNED_HEADERS", "w")) std::fclose(f); }
+EOF
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$work/victim_home/headers_cache" \
+  "$shared/v/src/cs/build/contactsweep" run k.toml -o victim5.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && [[ ! -e $shared/PWNED_HEADERS ]] && same ref.h5 "$shared/victim5.h5" &&
+  grep -q "not compiling kernels against the headers in '$shared/share/contactsweep/include'" stderr &&
+  ok "headers another user planted where an installed program's would be are not compiled in (same bits)" ||
+  bad "headers planted where an installed program's would be" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
+
+# The build tree's snapshot is named by its absolute path: a program copied elsewhere (~/bin)
+# from a build tree in /tmp that is then removed finds whatever another user makes under that
+# name. Played in a private mount namespace, the planted copy bound over the snapshot's path:
+# refused (exit 1, nothing written), never compiled in.
+snapshot_dir=$(dirname "$bin")/kernel_include
+mkdir -p "$shared/copied" && cp "$bin" "$shared/copied/contactsweep" && chmod 755 "$shared/copied/contactsweep"
+if unshare -m --propagation private true 2>/dev/null; then
+  (cd "$shared" && unshare -m --propagation private sh -c \
+    'mount --bind "$1" "$2" && exec setpriv --reuid="$3" --regid="$4" --clear-groups env CONTACTSWEEP_CACHE="$5" "$6" run k.toml -o victim6.h5 --quiet' \
+    sh "$shared/share/contactsweep/include" "$snapshot_dir" "$vuid" "$(id -g cs-sec-victim)" \
+    "$work/victim_home/snapshot_cache" "$shared/copied/contactsweep") 2>stderr
+  rc=$?
+  ((rc == 1)) && [[ ! -e $shared/PWNED_HEADERS && ! -e $shared/victim6.h5 ]] &&
+    grep -q "not compiling kernels against the headers in '$snapshot_dir': .* belongs to user id $auid" stderr &&
+    ok "a snapshot directory another user made under the build tree's name is refused (exit 1), never compiled in" ||
+    bad "a snapshot directory another user made under the build tree's name" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
+else
+  skip "a snapshot directory another user made under the build tree's name" "no private mount namespace"
+fi
 
 # The journal of an output in a shared directory, made first by another user.
 as cs-sec-attacker mkdir -m 0700 "$shared/map.h5.journal"

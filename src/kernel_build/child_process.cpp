@@ -3,11 +3,13 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <iterator>
 #include <stdexcept>
@@ -59,6 +61,27 @@ std::vector<std::string> compiler_environment() {
   return env;
 }
 
+// The file execvpe would start for `program`, found on PATH's absolute entries alone, or ""
+// when none has it. execvpe searches the caller's PATH, relative entries included, and
+// `compiler --version` runs in the user's directory (an output's shared one, say): "g++" with
+// "." first on PATH would start a g++ planted there.
+std::string program_file(const std::string& program) {
+  if (program.find('/') != std::string::npos) return program;
+  const char* path = std::getenv("PATH");
+  const std::string dirs =
+      absolute_entries(path != nullptr ? path : "/bin:/usr/bin");  // glibc's default
+  for (std::size_t begin = 0; begin < dirs.size();) {
+    const std::size_t end = std::min(dirs.find(':', begin), dirs.size());
+    const std::string file = dirs.substr(begin, end - begin) + "/" + program;
+    struct stat status {};
+    if (::stat(file.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
+        ::access(file.c_str(), X_OK) == 0)
+      return file;
+    begin = end + 1;
+  }
+  return {};
+}
+
 }  // namespace
 
 int run_program(const std::vector<std::string>& args, int output_fd,
@@ -76,6 +99,7 @@ int run_program(const std::vector<std::string>& args, int output_fd,
   for (auto& e : env_text) envp.push_back(e.data());
   envp.push_back(nullptr);
 
+  const std::string file = program_file(args[0]);
   int exec_error[2];  // the child reports a failed exec here; closed on a successful one
   if (::pipe2(exec_error, O_CLOEXEC) != 0)
     throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(errno));
@@ -97,8 +121,8 @@ int run_program(const std::vector<std::string>& args, int output_fd,
       [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);
       ::_exit(127);
     }
-    ::execvpe(argv[0], argv.data(), envp.data());
-    const int error = errno;
+    if (!file.empty()) ::execvpe(file.c_str(), argv.data(), envp.data());  // a path: no search
+    const int error = file.empty() ? ENOENT : errno;
     [[maybe_unused]] auto n = ::write(exec_error[1], &error, sizeof error);
     ::_exit(127);
   }

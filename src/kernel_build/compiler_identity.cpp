@@ -35,7 +35,8 @@ std::string compiler_file_signature(const std::string& compiler) {
     const char* path = std::getenv("PATH");
     std::stringstream dirs(path != nullptr && *path != '\0' ? path : "/usr/bin:/bin");
     for (std::string dir; std::getline(dirs, dir, ':');)
-      if (!dir.empty()) candidates.push_back(dir + "/" + compiler);
+      if (!dir.empty() && dir[0] == '/')
+        candidates.push_back(dir + "/" + compiler);  // as run_program
   }
   for (const std::string& path : candidates) {
     struct stat status {};

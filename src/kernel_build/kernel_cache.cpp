@@ -97,10 +97,62 @@ std::vector<std::string> host_library() {
   return {code.string()};
 }
 
+// Why the headers in `dir` may be another user's, or "" when only root, we and the owner of
+// the code file running (whose code we run anyway: a software tree an admin account installed)
+// can have put them there: `dir`, everything in it and every directory above it that is not
+// also above the code file (where the code file is just as exposed) is theirs, and with
+// `writable_by_them_alone`, nobody else can write to it (but for sticky directories above:
+// others may add names there, not replace ours). The installed candidates below are found by
+// climbing from the code file's directory, up to 4 levels: for a program or module that is not
+// installed (a build tree 4 levels below /tmp, a checkout in a shared /scratch) they are
+// directories anyone may create; the build tree's snapshot is named by its absolute path, which
+// anyone may create once a build tree in /tmp is gone and its program lives on elsewhere.
+std::string untrusted_headers(const std::string& dir, bool writable_by_them_alone) {
+  std::error_code error;
+  const fs::path code = code_file();
+  const fs::path code_dir =
+      code.empty() ? fs::path() : fs::weakly_canonical(code.parent_path(), error);
+  struct stat code_status {};
+  const uid_t me = ::geteuid(),
+              code_owner =
+                  !code.empty() && ::stat(code.c_str(), &code_status) == 0 ? code_status.st_uid : 0;
+  const auto problem = [&](const fs::path& path, bool above) -> std::string {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) != 0)
+      return fmt::format("'{}' cannot be examined ({})", path.string(), errno_text(errno));
+    if (status.st_uid != 0 && status.st_uid != me && status.st_uid != code_owner)
+      return fmt::format("'{}' belongs to user id {}", path.string(), status.st_uid);
+    if (writable_by_them_alone && (status.st_mode & (S_IWGRP | S_IWOTH)) != 0 &&
+        !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
+      return fmt::format("others can write to '{}'", path.string());
+    return {};
+  };
+  const auto above_code = [&](const fs::path& path) {
+    return !code_dir.empty() &&
+           std::mismatch(path.begin(), path.end(), code_dir.begin(), code_dir.end()).first ==
+               path.end();
+  };
+  const fs::path canonical = fs::weakly_canonical(dir, error);
+  for (fs::path up = canonical.parent_path(); !up.empty() && !above_code(up);
+       up = up.parent_path()) {
+    if (std::string why = problem(up, true); !why.empty()) return why;
+    if (up == up.root_path()) break;
+  }
+  if (std::string why = problem(canonical, false); !why.empty()) return why;
+  for (fs::recursive_directory_iterator
+           it(canonical, fs::directory_options::follow_directory_symlink, error),
+       end;
+       !error && it != end; it.increment(error))
+    if (std::string why = problem(it->path(), false); !why.empty()) return why;
+  if (error) return fmt::format("'{}' cannot be listed ({})", canonical.string(), error.message());
+  return {};
+}
+
 // The headers a kernel includes: the snapshot installed beside the program (PREFIX/bin/
 // contactsweep -> PREFIX/share/contactsweep/include) or the module (4 levels below PREFIX),
-// else the build tree's.
-std::string header_directory() {
+// else the build tree's. An installed-looking directory that another user may have made is
+// passed over, with a warning: its headers would be compiled into a kernel this process loads.
+std::string find_header_directory() {
   std::error_code error;
   const fs::path code = code_file();
   if (code.empty()) return toolchain_config::kSnapshotIncludeDir;
@@ -108,10 +160,26 @@ std::string header_directory() {
        {fs::path(toolchain_config::kInstalledIncludeDir),
         fs::path("../../..") / toolchain_config::kInstalledIncludeDir}) {
     const fs::path installed = code.parent_path() / relative;
-    if (fs::exists(installed / "HEADERS_SHA256", error))
-      return fs::weakly_canonical(installed, error).string();
+    if (!fs::exists(installed / "HEADERS_SHA256", error)) continue;
+    const fs::path canonical = fs::weakly_canonical(installed, error);
+    if (const std::string why = untrusted_headers(canonical, true); !why.empty()) {
+      log("contactsweep: warning: not compiling kernels against the headers in '{}': {}, so "
+          "another user may have put them there",
+          canonical.string(), why);
+      continue;
+    }
+    return canonical.string();
   }
-  return toolchain_config::kSnapshotIncludeDir;
+  // Canonical, as the one checked: a link on the way is not followed again by the compiler.
+  const fs::path snapshot = fs::weakly_canonical(toolchain_config::kSnapshotIncludeDir, error);
+  return error || snapshot.empty() ? std::string(toolchain_config::kSnapshotIncludeDir)
+                                   : snapshot.string();
+}
+
+// Looked for once a process: the program's place does not change while it runs.
+std::string header_directory() {
+  static const std::string dir = find_header_directory();
+  return dir;
 }
 
 // Whether the flags build for the CPU they run on: then the kernel is fit for this kind of CPU
@@ -202,9 +270,15 @@ void remove_stale_builds(const OwnedDirectory& cache) {
     if (is_stale_build(name)) remove_build_directory(cache, name);
 }
 
-// The headers in `dir` are the snapshot this program was built with, or the build is refused:
-// a kernel compiled from other headers would be called with other layouts.
+// The headers in `dir` are the snapshot this program was built with, and none another user may
+// have put there, or the build is refused: a kernel compiled from other headers would be called
+// with other layouts, or run their code.
 void check_headers(const std::string& dir) {
+  if (const std::string why = untrusted_headers(dir, false); !why.empty())
+    throw std::runtime_error(fmt::format(
+        "not compiling kernels against the headers in '{}': {}, so another user may have put "
+        "them there; rebuild contactsweep (cmake --build) or install it again (cmake --install)",
+        dir, why));
   std::string text;
   const int fd = ::open((dir + "/HEADERS_SHA256").c_str(), O_RDONLY | O_CLOEXEC);
   if (fd >= 0) {
