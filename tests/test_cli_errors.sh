@@ -93,6 +93,53 @@ if (( $(grep -c "did you mean" "$work/stderr") != 1 )); then
   failed=$((failed + 1))
 fi
 
+# MPMD launches whose ranks were given different arguments: rank 0 alone reads the spec and
+# decides the start, but every rank parses with its own --set and journals beside its own output.
+# Refused before any work (exit 2, nothing written, named once); they used to exit 1 after the
+# other ranks' collectives parted ways ("another build or spec"), after rank 0 had journaled
+# blocks ("the journal 'b.h5.journal' of this run is missing"), or crash (an empty -o on one rank).
+expect "MPMD: ranks with different --set" 2 \
+  "rank 1 (" "$d" -- \
+  $mpiexec -np 1 "$bin" run "$work/good.toml" -o mpmd.h5 --set integrator.t_end=2.0 : \
+  -np 1 "$bin" run "$work/good.toml" -o mpmd.h5
+fragment="this rank was started with other overrides than rank 0 (no --set here, --set integrator.t_end=2.0 on rank 0); every rank of a run must be given the same --set"
+if grep -qF -- "$fragment" "$work/stderr" && (($(grep -c "same --set" "$work/stderr") == 1)); then
+  echo "ok    MPMD: ranks with different --set: named, once"
+  passed=$((passed + 1))
+else
+  echo "FAIL  MPMD: ranks with different --set: stderr lacks '$fragment' (once)"
+  failed=$((failed + 1))
+fi
+expect "MPMD: ranks with different -o" 2 \
+  "rank 1 (" "$d" -- \
+  $mpiexec -np 1 "$bin" run "$work/good.toml" -o a.h5 : -np 1 "$bin" run "$work/good.toml" -o b.h5
+grep -qF "this rank would write 'b.h5' but rank 0 writes 'a.h5' (-o, or the spec's name with .h5 without -o); every rank of a run must be given the same -o" "$work/stderr" &&
+  { echo "ok    MPMD: ranks with different -o: named"; passed=$((passed + 1)); } ||
+  { echo "FAIL  MPMD: ranks with different -o: message"; failed=$((failed + 1)); }
+cp "$work/good.toml" "$work/other_name.toml"
+expect "MPMD: no -o and specs of different names (different default outputs)" 2 \
+  "this rank would write 'other_name.h5' but rank 0 writes 'good.h5'" "$d" -- \
+  $mpiexec -np 1 "$bin" run "$work/good.toml" : -np 1 "$bin" run "$work/other_name.toml"
+expect "MPMD: an empty -o on one rank (was a crash, SIGSEGV)" 2 "-o: the output path is empty" "$d" -- \
+  $mpiexec -np 1 "$bin" run "$work/good.toml" -o a.h5 : -np 1 "$bin" run "$work/good.toml" -o ''
+mkdir -p "$d/w1" "$d/w2"
+expect "MPMD: the same -o in two working directories" 2 \
+  "this rank would write '$d/w2/w.h5' but rank 0 writes '$d/w1/w.h5'" "$d" -- \
+  $mpiexec -np 1 -wdir "$d/w1" "$bin" run "$work/good.toml" -o w.h5 : \
+  -np 1 -wdir "$d/w2" "$bin" run "$work/good.toml" -o w.h5
+# The same file spelled two ways is one output: the run goes ahead.
+mkdir -p "$work/spelled"
+rc=0
+(cd "$work/spelled" && $mpiexec -np 1 "$bin" run "$work/good.toml" -o same.h5 --quiet : \
+  -np 1 "$bin" run "$work/good.toml" -o ./same.h5 --quiet </dev/null >"$work/stderr" 2>&1) || rc=$?
+if ((rc == 0)) && [[ -s $work/spelled/same.h5 ]]; then
+  echo "ok    MPMD: -o same.h5 and -o ./same.h5 are one output: exit 0, the file written"
+  passed=$((passed + 1))
+else
+  echo "FAIL  MPMD: -o same.h5 and -o ./same.h5: exit $rc: $(tail -2 "$work/stderr")"
+  failed=$((failed + 1))
+fi
+
 # Listings need no MPI (main.cpp parses before MPI starts) but still print once under mpirun,
 # and a listing that cannot be written is a failure.
 scenes_once=$($mpiexec -np 2 "$bin" scenes </dev/null 2>/dev/null | grep -c "(paper scene")

@@ -1,10 +1,11 @@
 // dop853 (numerics/methods/dop853.hpp): the adaptive method's own tests. The typed tests of
 // every fixed-step method (test_methods.cpp, test_stability*.cpp) ask what a fixed h does; here:
 // the formula's order 8 at a fixed step, the global error proportional to the tolerance, H = λK
-// on scene A, and the adaptive lanes of the engine against the closed form and against any cut
-// of the grid.
+// on scene A, the error norm and next step of one attempt against dop853.f's formulas, and the
+// adaptive lanes of the engine against the closed form and against any cut of the grid.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -192,6 +193,173 @@ TEST(Dop853, TheControllerKeepsDop853fsBounds) {
   EXPECT_GT(rejected, 0.0);
   EXPECT_GT(after_rejection, 0);
   EXPECT_LT(error_at(x, t), 1e-8);
+}
+
+// The error norm and the step-size controller against dop853.f, computed independently here.
+// One attempt from a state of scene A: the 12 stage rates from the method's own `stage` (the
+// stages' nodes and matrix are what FixedStepsConvergeWithOrderEight checks), everything after
+// them -- the 8th-order solution, sk, the 5th- and 3rd-order estimates, their norm and the next
+// h -- recomputed in long double from dop853.f's published weights, written out below, and
+// dop853.f's formulas:
+//   sk_i = atol + rtol·max(|y0_i|, |y1_i|),  y1 = y0 + h·Σ b_j k_j
+//   err5 = Σ_i (Σ_j er_j k_j,i / sk_i)²,  err3 = Σ_i ((Σ_j b_j k_j,i − bhh1 k_1,i − bhh2 k_9,i
+//          − bhh3 k_12,i) / sk_i)²
+//   err = |h|·err5·sqrt(1/(n·(err5 + 0.01·err3))),  accepted when err ≤ 1
+//   fac11 = err^(1/8) (beta = 0: no Lund stabilisation), safe = 0.9, facc1 = 1/0.333,
+//   facc2 = 1/6: accepted: hnew = h/max(facc2, min(facc1, fac11/safe)), min(hnew, hmax), and
+//   min(hnew, h) right after a rejection; rejected: hnew = h/min(facc1, fac11/safe).
+// n = 3 on scene A: q, p and z (K_z = −γ is constant, so ln λ is not integrated but
+// incremented exactly).
+namespace hairer {
+// dop853.f: b1, b6 … b12 (b2 … b5 = 0)
+constexpr long double b[12] = {5.42937341165687622380535766363e-2L, 0, 0, 0, 0,
+                               4.45031289275240888144113950566L,
+                               1.89151789931450038304281599044L,
+                               -5.8012039600105847814672114227L,
+                               3.1116436695781989440891606237e-1L,
+                               -1.52160949662516078556178806805e-1L,
+                               2.01365400804030348374776537501e-1L,
+                               4.47106157277725905176885569043e-2L};
+// bhh1, bhh2, bhh3: the 3rd-order weights of stages 1, 9 and 12
+constexpr long double bhh1 = 0.244094488188976377952755905512L,
+                      bhh2 = 0.733846688281611857341361741547L,
+                      bhh3 = 0.220588235294117647058823529412e-1L;
+// er1, er6 … er12
+constexpr long double er[12] = {0.1312004499419488073250102996e-1L, 0, 0, 0, 0,
+                                -0.1225156446376204440720569753e1L,
+                                -0.4957589496572501915214079952L,
+                                0.1664377182454986536961530415e1L,
+                                -0.3503288487499736816886487290L,
+                                0.3341791187130174790297318841L,
+                                0.8192320648511571246570742613e-1L,
+                                -0.2235530786388629525884427845e-1L};
+}  // namespace hairer
+
+using Point1 = contact_field::Point<1, double>;
+
+struct Expected {
+  long double err, err5, err3;
+  bool accept;
+  bool interior;  // fac11/safe strictly between facc2 and facc1: neither bound clamps hnew
+  long double h_next;
+  double rounding;  // a bound on the relative difference of the code's h_next (double)
+};
+
+// dop853.f's norm and controller for one attempt of step hs from y0 with stage rates r (scene
+// A's components q, p, z).
+Expected expected_attempt(const Point1& y0, const Point1* r, double hs, double rtol, double atol,
+                          bool last_rejected, double h_max) {
+  const long double h = hs;
+  long double err5 = 0, err3 = 0;
+  double condition = 1.0;
+  for (int m = 0; m < 3; ++m) {
+    auto comp = [m](const Point1& y) { return m == 0 ? y.q[0] : m == 1 ? y.p[0] : y.z; };
+    long double k4 = 0, e5 = 0, abs5 = 0, abs3 = 0;
+    for (int j = 0; j < 12; ++j) {
+      k4 += hairer::b[j] * comp(r[j]);
+      e5 += hairer::er[j] * comp(r[j]);
+      abs5 += std::fabs(hairer::er[j] * comp(r[j]));
+      abs3 += std::fabs(hairer::b[j] * comp(r[j]));
+    }
+    const long double e3 =
+        k4 - hairer::bhh1 * comp(r[0]) - hairer::bhh2 * comp(r[8]) - hairer::bhh3 * comp(r[11]);
+    abs3 += std::fabs(hairer::bhh1 * comp(r[0])) + std::fabs(hairer::bhh2 * comp(r[8])) +
+            std::fabs(hairer::bhh3 * comp(r[11]));
+    const long double y1 = comp(y0) + h * k4;
+    const long double sk = atol + rtol * std::max(std::fabs((long double)comp(y0)), std::fabs(y1));
+    err5 += (e5 / sk) * (e5 / sk);
+    err3 += (e3 / sk) * (e3 / sk);
+    // How much the code's double sums may lose to cancellation: Σ|w_j k_j| / |Σ w_j k_j|.
+    condition = std::max({condition, double(abs5 / std::fabs(e5)), double(abs3 / std::fabs(e3))});
+  }
+  long double deno = err5 + 0.01L * err3;
+  if (deno <= 0) deno = 1;
+  const long double err = std::fabs(h) * err5 * std::sqrt(1.0L / (3 * deno));
+  const long double fac11 = std::pow(err, 0.125L), safe = 0.9L, facc1 = 1 / 0.333L,
+                    facc2 = 1 / 6.0L;
+  const bool accept = err <= 1;
+  const bool interior = facc2 < fac11 / safe && fac11 / safe < facc1;
+  long double h_next;
+  if (accept) {
+    h_next = h / std::max(facc2, std::min(facc1, fac11 / safe));
+    h_next = std::min(h_next, (long double)h_max);
+    if (last_rejected) h_next = std::min(h_next, h);
+  } else {
+    h_next = h / std::min(facc1, fac11 / safe);
+  }
+  // The code sums each component's 8 nonzero products in double (fused: 8 roundings, each at
+  // most 2⁻⁵³ of the sum of the magnitudes; its weights, read to doubles, 1 more): relative
+  // error ≤ 9·2⁻⁵³·condition in each estimate, twice that in err5, half of err3's (which
+  // dominates the denominator), 1/8 of err's in h_next: ≤ 3.4·2⁻⁵³·condition, plus a few
+  // roundings of h (1e-15). 8·2⁻⁵³·condition + 1e-15 bounds it with room.
+  return {err, err5, err3, accept, interior, h_next, 8 * 0x1p-53 * condition + 1e-15};
+}
+
+struct Attempt {
+  LaneState<1> x;
+  double t, h, last_rejected, accepted, rejected;
+};
+
+// The code's attempt: `conclude` on the stage rates r, and `attempt` (which computes its own)
+// from the same lane; the two must agree to the bit.
+Attempt code_attempt(const LaneState<1>& x0, double h, double last_rejected,
+                     const Dop853::Control& k, const Point1* r) {
+  Attempt a{x0, 0.0, h, last_rejected, 0.0, 0.0};
+  Dop853::conclude<S, Carry{true, true}>(a.x, a.t, a.h, a.last_rejected, a.accepted, a.rejected,
+                                         k, r);
+  Attempt b{x0, 0.0, h, last_rejected, 0.0, 0.0};
+  Dop853::attempt<S, Carry{true, true}>(b.x, kSceneA, b.t, b.h, b.last_rejected, b.accepted,
+                                        b.rejected, k);
+  EXPECT_EQ(a.h, b.h);
+  EXPECT_EQ(a.t, b.t);
+  EXPECT_EQ(a.x.q[0], b.x.q[0]);
+  EXPECT_EQ(a.x.z, b.x.z);
+  return a;
+}
+
+TEST(Dop853, ErrorNormAndNextStepAreDop853fs) {
+  LaneState<1> x0 = start_state();
+  x0.q[0] = 0.8, x0.p[0] = -0.6, x0.z = 1.7, x0.t = 0.0;
+  const Point1 y0{x0};
+  struct Case {
+    double h, tol;
+    bool last_rejected, accepted;  // the branch of the controller the case exercises
+  };
+  // h and tol chosen so that fac11/safe falls strictly inside (facc2, facc1): the next h is
+  // h·safe/err^(1/8), where the safety factor and the norm both show. The reference's err
+  // (this state, tol 1e-9) is 0.038, 0.64, 2.08 and 169; 0.01·err3 is 10³ to 10⁵ times err5,
+  // so the 0.01 weight sets err (about as 1/sqrt(0.01)); 0.64 and 2.08 lie within a factor
+  // sqrt(3) and sqrt(10) of 1, so that the norm's 1/sqrt(n) and the 0.01 decide acceptance too.
+  const Case cases[] = {
+      {0.30, 1e-9, false, true},
+      {0.43, 1e-9, true, true},  // right after a rejection: hnew < h here, so min(hnew, h) = hnew
+      {0.50, 1e-9, false, false},
+      {0.90, 1e-9, false, false},
+  };
+  for (const Case& c : cases) {
+    Point1 r[12];
+    contact_field::unrolled<12>(
+        [&](auto i) { r[i] = Dop853::stage<i, S, true, false>(y0, kSceneA, 0.0, c.h, r); });
+    const Dop853::Control k{c.tol, c.tol, 100.0, 100.0};
+    const Expected e = expected_attempt(y0, r, c.h, c.tol, c.tol, c.last_rejected, k.h_max);
+    const Attempt a = code_attempt(x0, c.h, c.last_rejected ? 1.0 : 0.0, k, r);
+    ASSERT_EQ(e.accept, c.accepted) << "h " << c.h << " err " << double(e.err);
+    ASSERT_TRUE(e.interior) << "h " << c.h << " err " << double(e.err);
+    if (c.last_rejected) {
+      ASSERT_LT(e.h_next, c.h);  // min(hnew, h) does not hide safe
+    }
+    EXPECT_EQ(a.accepted, e.accept ? 1.0 : 0.0) << "h " << c.h << " err " << double(e.err);
+    EXPECT_EQ(a.rejected, e.accept ? 0.0 : 1.0) << "h " << c.h << " err " << double(e.err);
+    EXPECT_EQ(a.t, e.accept ? c.h : 0.0) << "h " << c.h;
+    EXPECT_EQ(a.last_rejected, e.accept ? 0.0 : 1.0) << "h " << c.h;
+    // The rounding bound is 2e-7 or less here (the error estimates cancel to 1e-8 of their
+    // terms); the mutations it must see move h by 3^(1/16) − 1 = 7 % (no 1/sqrt(n)) or more
+    // (safe 0.8 for 0.9: 12.5 %; weight 0.1 for 0.01: ~15 %).
+    ASSERT_LT(e.rounding, 1e-3);
+    EXPECT_NEAR(a.h / double(e.h_next), 1.0, e.rounding)
+        << "h " << c.h << " err " << double(e.err) << " (err5 " << double(e.err5) << ", err3 "
+        << double(e.err3) << ") next h " << a.h << " expected " << double(e.h_next);
+  }
 }
 
 // The engine: every lane ends at t_end, at the closed form within the tolerance; the same bits

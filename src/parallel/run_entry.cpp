@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include "io/spec_parser.hpp"
 #include "mpi/agreement.hpp"
@@ -31,15 +32,68 @@ RunSpec agreed_spec(const RunArguments& args, MPI_Comm comm) {
   return agreed(comm, [&] { return parse_run_spec(text, args.overrides, args.spec_path); });
 }
 
+// `--set a=1 --set b=2` as it was typed, for a message.
+std::string as_typed(const std::vector<std::string>& overrides) {
+  if (overrides.empty()) return "no --set";
+  std::string s;
+  for (const auto& o : overrides) s += (s.empty() ? "" : " ") + ("--set " + o);
+  return s;
+}
+
+// Collective: rank 0's list on every rank.
+std::vector<std::string> rank0_list(MPI_Comm comm, const std::vector<std::string>& mine) {
+  std::vector<std::string> list = mine;
+  std::string count = std::to_string(list.size());
+  broadcast(comm, count);
+  list.resize(std::stoull(count));
+  for (auto& item : list) broadcast(comm, item);
+  return list;
+}
+
+// Collective, before anything else of the run: every rank was started with the same --set
+// overrides and writes the same output. One `mpirun -np N contactsweep …` gives every rank the
+// same command line, but an MPMD launch (`mpirun -np 1 contactsweep run … : -np 1 contactsweep
+// run …`) or a wrapper script per rank may not, and each rank uses its own: it parses rank 0's
+// spec text with its own overrides (so its grid and blocks may differ, and the ranks would part
+// ways in their collective calls before any check of the run's identity), and it saves its
+// blocks in the journal beside its own output while rank 0 decides the start and writes the
+// file for its own. Either is bad input (exit 2), named, before any work.
+void check_same_arguments(const RunArguments& args, const std::string& output, MPI_Comm comm) {
+  const std::vector<std::string> rank0_overrides = rank0_list(comm, args.overrides);
+  // Compared as absolute paths: `out.h5` and `./out.h5` are one file; the same relative name in
+  // two working directories is two.
+  std::error_code no_directory;  // the working directory gone: compared as given
+  std::string absolute =
+      std::filesystem::absolute(output, no_directory).lexically_normal().string();
+  if (no_directory) absolute = output;
+  const std::vector<std::string> rank0_output = rank0_list(comm, {output, absolute});
+  agreed(comm, [&] {
+    if (args.output_given && args.output.empty())
+      throw InputError("-o: the output path is empty; name a file, e.g. -o basins.h5");
+    if (args.overrides != rank0_overrides)
+      throw InputError("this rank was started with other overrides than rank 0 (" +
+                       as_typed(args.overrides) + " here, " + as_typed(rank0_overrides) +
+                       " on rank 0); every rank of a run must be given the same --set");
+    if (absolute != rank0_output[1]) {
+      // The same name in two working directories: the directories are the difference.
+      const bool same_name = output == rank0_output[0];
+      throw InputError("this rank would write '" + (same_name ? absolute : output) +
+                       "' but rank 0 writes '" + rank0_output[same_name ? 1 : 0] +
+                       "' (-o, or the spec's name with .h5 without -o); every rank of a run must "
+                       "be given the same -o");
+    }
+  });
+}
+
 RunOutcome run_here(const RunArguments& args, MPI_Comm comm, RunControl* control) {
-  if (args.output_given && args.output.empty())
-    throw InputError("-o: the output path is empty; name a file, e.g. -o basins.h5");
+  const std::string output = args.output.empty()
+                                 ? std::filesystem::path(args.spec_path).stem().string() + ".h5"
+                                 : args.output;
+  check_same_arguments(args, output, comm);
   RunOutcome outcome;
   const RunSpec spec = agreed_spec(args, comm);
   SweepOptions options;
-  options.output = args.output.empty()
-                       ? std::filesystem::path(args.spec_path).stem().string() + ".h5"
-                       : args.output;
+  options.output = output;
   options.force = args.force;
   options.resume = args.resume;
   options.quiet = args.quiet;
