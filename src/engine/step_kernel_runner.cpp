@@ -5,7 +5,9 @@
 #include <string>
 
 #include "engine/block_runner.hpp"
+#include "engine/mappers/mapper_choice.hpp"
 #include "engine/proxy_scene.hpp"
+#include "formula/custom_scene.hpp"
 #include "formula/measure_formulas.hpp"
 #include "numerics/method_list.hpp"
 
@@ -32,19 +34,34 @@ int coefficient_count(const std::string& method) {
   return count;
 }
 
+// Whether the plan's basin map uses the energy trap: its exact_trap, where K has one
+// (has_energy_trap: K = Σp²/2 + V(q) + k·z, no t). The trap searches K's wells, which a step
+// kernel does not hold; the proxy scene has no trap, so such a map must not come here.
+bool uses_energy_trap(const RunPlan& plan) {
+  if (plan.map.basin < 0 || !mappers_of(plan).trap) return false;
+  const KTraits& k = plan.spec.custom->formula.traits;
+  return k.z_part == ZPart::linear && !k.time_dependent;
+}
+
 // The runner reads nothing of the carried state but the tangent (none here): the kernel's step
-// loop carries what the plan asks, so one runner per count of degrees of freedom and layout.
-template <int D, bool Uniform>
+// loop carries what the plan asks, so one runner per count of degrees of freedom, parameter
+// layout and whether it maps basins. A basin map's runner holds every mapper but the trap
+// (the proxy scene has none: MapperSet compiles it only where the scene has one).
+template <int D, bool Uniform, bool Basins>
 void run_proxy(const RunPlan& plan, BlockResults& results) {
+  constexpr MapperChoice mappers = Basins ? kEveryMapper : MapperChoice{false, false, false, false};
   using Runner = BlockRunner<ProxyScene<D>, ProxyMethod, Carry{false, false}, Uniform,
-                             NoMeasureFormulas, MapperChoice{false, false, false, false}, true>;
+                             NoMeasureFormulas, mappers, true>;
   std::make_unique<Runner>(plan, results)->run();
 }
 
 template <int D>
 void run_proxy(const RunPlan& plan, BlockResults& results) {
-  if (plan.grid.uniform_parameters()) run_proxy<D, true>(plan, results);
-  else run_proxy<D, false>(plan, results);
+  const bool uniform = plan.grid.uniform_parameters(), basins = plan.map.basin >= 0;
+  if (uniform && basins) run_proxy<D, true, true>(plan, results);
+  else if (uniform) run_proxy<D, true, false>(plan, results);
+  else if (basins) run_proxy<D, false, true>(plan, results);
+  else run_proxy<D, false, false>(plan, results);
 }
 
 }  // namespace
@@ -52,8 +69,8 @@ void run_proxy(const RunPlan& plan, BlockResults& results) {
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
   for (const RunPlan* plan : plans) {
     if (!plan->spec.custom || plan->method.adaptive || plan->carry.tangent ||
-        has_measure_formulas(plan->spec.measures) || plan->map.basin >= 0 ||
-        plan->map.trap_verdict >= 0 || plan->scene.dof > kStepKernelMaxDof ||
+        has_measure_formulas(plan->spec.measures) || uses_energy_trap(*plan) ||
+        plan->scene.dof > kStepKernelMaxDof ||
         plan->scene.parameters.size() > static_cast<std::size_t>(kStepKernelParamFields) ||
         coefficient_count(plan->spec.method) > kStepKernelCoefFields)
       return false;

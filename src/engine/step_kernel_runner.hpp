@@ -11,9 +11,9 @@
 namespace cs {
 
 // Whether the runs of `plans` (a run's step-size slices) need nothing of a K beyond a step
-// kernel: a fixed-step method, no basin map (its mappers search K's wells and orbits), no
-// measures as formulas, no lyapunov tangent, at most kStepKernelMaxDof degrees of freedom and
-// the tile's room for the parameters and the method's coefficients.
+// kernel: a fixed-step method, no basin map that uses the energy trap (it searches K's wells),
+// no measures as formulas, no lyapunov tangent, at most kStepKernelMaxDof degrees of freedom
+// and the tile's room for the parameters and the method's coefficients.
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans);
 
 // Throws std::logic_error when `kernel` is not the table this program's runner expects for `plan`.

@@ -318,15 +318,23 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
 // A K's step kernel (engine/step_kernel.hpp) for runs the program's own runner can make
 // (runs_on_step_kernel): its step loop and per-lane functions alone, a fraction of a whole
 // kernel's compile (docs/performance.md). Compiled once per node and cached, as custom_kernel.
+// A basin map's orbit kernel is compiled beside it, as custom_kernel's.
 const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = scene_source(plan);
-  BuiltKernel built;
+  std::optional<std::string> orbit_source;
+  if (plan.map.basin >= 0)
+    orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
+  BuiltKernel built, orbit;
   void* entry = prepare_kernel(step_kernel_source(scene.header, scene.struct_name, plan.spec.method,
                                                   plan.carry, plan.grid.uniform_parameters()),
-                               kStepKernelEntry, comm, &built);
+                               kStepKernelEntry, comm, &built,
+                               orbit_source ? &*orbit_source : nullptr, &orbit);
   if (built.compiled && !options.quiet && rank_of(comm) == 0)
     log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
         built.library);
+  if (orbit.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the orbit kernel of scene.K beside it, to describe its attractors, "
+        "in {:.1f} s (cached: {})", orbit.seconds, orbit.library);
   const StepKernel* kernel = reinterpret_cast<const StepKernel* (*)()>(entry)();
   check_step_kernel(*kernel, plan);
   return kernel;
