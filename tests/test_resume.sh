@@ -50,6 +50,38 @@ status=$?
 "$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" || fail "$name: resume exited $?"
 check "$name"
 
+# SIGTERM (a batch system's time limit) or SIGINT after the 3rd saved block (the test hook sends
+# it to the process, as from outside): no block is started after it, those being computed are
+# saved, the temporary file is removed and the journal kept; the exit status is 128 + the signal
+# with a message naming it; --resume (on 1 or 2 ranks) finishes the file.
+stopped_message() {  # stopped_message NAME SIGNAL LOG: the message, with at least 3 blocks saved
+  local line saved total
+  line=$(grep "^contactsweep: stopped by $2; [0-9]* of [0-9]* blocks saved in $1.h5.journal; run again with --resume to continue$" "$3") ||
+    { fail "$1: no stop message in: $(cat "$3")"; return; }
+  read -r saved total < <(sed 's/.*; \([0-9]*\) of \([0-9]*\) blocks.*/\1 \2/' <<<"$line")
+  ((saved >= 3 && saved < total)) || fail "$1: $saved of $total blocks saved, expected 3 to $((total - 1))"
+  echo "$1: $line"
+}
+for sig in TERM:143:1 INT:130:2; do
+  IFS=: read -r signal expected resume_ranks <<<"$sig"
+  name="signal_$signal"
+  CONTACTSWEEP_TEST_KILL="block:3/${signal,,}" "$bin" run "$spec" -o "$name.h5" "${args[@]}" \
+    2> "$name.log"
+  status=$?
+  [[ $status -eq $expected ]] || fail "$name: expected exit status $expected, got $status"
+  [[ ! -e $name.h5 && ! -e $name.h5.partial && -d $name.h5.journal ]] ||
+    fail "$name: expected the journal alone, found: $(ls -d "$name".h5* 2>/dev/null)"
+  stopped_message "$name" "SIG$signal" "$name.log"
+  "${mpirun[@]}" -np "$resume_ranks" "$bin" run "$spec" -o "$name.h5" --resume "${args[@]}" \
+    || fail "$name: resume exited $?"
+  check "$name"
+done
+# A SIGTERM while the file is being completed is ignored: the run completes it (exit 0).
+name=signal_at_write
+CONTACTSWEEP_TEST_KILL=write/term "$bin" run "$spec" -o "$name.h5" "${args[@]}" \
+  || fail "$name: exited $?"
+check "$name"
+
 # Kill a 2-rank run with kill -9 to its whole job at moments spread over its duration (measured
 # here, so the kills land inside the run on a fast machine and under the sanitizers alike), then
 # resume. These runs integrate every lane to LONG_T_END (no early stop) so that they last.
@@ -87,6 +119,30 @@ done
 # block is done and the last after the commit; at least two must land mid-run, with finished
 # blocks journaled and no output yet, or this part tested nothing.
 ((interrupted >= 2)) || fail "only $interrupted of 5 timed kills landed mid-run"
+
+# SIGTERM to both ranks of a 2-rank run from outside, as Slurm signals every task at the time
+# limit, once 3 blocks are journaled: both stop, the job exits 143, the journal alone is left,
+# and --resume on one rank finishes the file.
+name=signal_np2
+"${mpirun[@]}" -np 2 "$bin" run "$spec" -o "$name.h5" "${long_args[@]}" 2> "$name.log" &
+job=$!
+for ((i = 0; i < 600; ++i)); do  # up to 30 s
+  (($(find "$name.h5.journal" -maxdepth 1 -name 'block_*.bin' 2>/dev/null | wc -l) >= 3)) && break
+  sleep 0.05
+done
+ranks=$(pgrep -P "$job")  # mpirun's children: the ranks
+kill -TERM $ranks
+wait "$job"
+status=$?
+[[ $status -eq 143 ]] || fail "$name: expected exit status 143, got $status (ranks: $ranks)"
+[[ ! -e $name.h5 && ! -e $name.h5.partial && -d $name.h5.journal ]] ||
+  fail "$name: expected the journal alone, found: $(ls -d "$name".h5* 2>/dev/null)"
+stopped_message "$name" SIGTERM "$name.log"
+"$bin" run "$spec" -o "$name.h5" --resume "${long_args[@]}" || fail "$name: resume exited $?"
+trials=$((trials + 1))
+[[ -f $name.h5 && ! -e $name.h5.journal && ! -e $name.h5.partial ]] ||
+  fail "$name: leftovers: $(ls -d "$name".h5* 2>/dev/null)"
+python_out=$(/usr/bin/python3 "$compare" long_reference.h5 "$name.h5") || fail "$name: $python_out"
 
 # --resume of a finished output is a no-op (the file keeps its bytes and its mtime, no journal is
 # left); of another spec's output, a refusal (exit 2).

@@ -17,6 +17,8 @@
 #include "model/run_spec.hpp"
 #include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
+#include "parallel/stop_signal.hpp"
+#include "parallel/sweep.hpp"
 #include "version.hpp"
 
 namespace {
@@ -103,10 +105,16 @@ int run(int argc, char** argv, const cs::RunArguments& arguments) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     comm = MPI_COMM_WORLD;
   }
+  // After MPI_Init, so that the handler is ours whatever the MPI library installs.
+  cs::install_stop_signal_handler();
   const int rank = cs::rank_of(comm), size = cs::size_of(comm);
   int status = 0;
   try {
     status = cs::run_command(arguments, comm);
+  } catch (const cs::StoppedBySignal& e) {  // every rank together (parallel/stop_signal.hpp)
+    if (rank == 0) cs::log("contactsweep: {}", e.what());
+    // 128 + the signal, as a shell reports a process that signal ended.
+    status = 128 + e.signal;
   } catch (const cs::InputError& e) {  // every rank throws it together (mpi/agreement.hpp)
     if (rank == 0) cs::log("contactsweep: error: {}", e.what());
     status = 2;

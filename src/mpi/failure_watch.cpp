@@ -1,5 +1,7 @@
 #include "mpi/failure_watch.hpp"
 
+#include "parallel/stop_signal.hpp"
+
 namespace cs {
 
 FailureWatch::FailureWatch(MPI_Comm comm) {
@@ -21,10 +23,15 @@ FailureWatch::~FailureWatch() {
   if (request_ == MPI_REQUEST_NULL) MPI_Comm_free(&comm_);
 }
 
+bool FailureWatch::stop() const {
+  return failed_here_ || failed_anywhere_ || stopped_anywhere_ || stop_signal() != 0;
+}
+
 void FailureWatch::start_round() {
   contribution_[0] = failed_here_ ? 1 : 0;
   contribution_[1] = working_ ? 1 : 0;
-  MPI_Iallreduce(contribution_, result_, 2, MPI_INT, MPI_MAX, comm_, &request_);
+  contribution_[2] = stop_signal();
+  MPI_Iallreduce(contribution_, result_, 3, MPI_INT, MPI_MAX, comm_, &request_);
 }
 
 bool FailureWatch::round_complete(bool wait) {
@@ -37,7 +44,8 @@ bool FailureWatch::round_complete(bool wait) {
   }
   if (!done) return false;
   if (result_[0] != 0) failed_anywhere_ = true;
-  over_ = result_[0] != 0 || result_[1] == 0;
+  if (result_[2] != 0) stopped_anywhere_ = true;
+  over_ = result_[0] != 0 || result_[1] == 0 || result_[2] != 0;
   return true;
 }
 

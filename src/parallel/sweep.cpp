@@ -42,6 +42,7 @@
 #include "parallel/progress.hpp"
 #include "parallel/run_identity.hpp"
 #include "parallel/run_start.hpp"
+#include "parallel/stop_signal.hpp"
 
 namespace cs {
 namespace {
@@ -248,21 +249,56 @@ void remove_finished_journal(Journal& journal) {
   }
 }
 
-// Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N][@RANK]): the process kills itself with SIGKILL at
-// a chosen point, so that tests can interrupt real runs deterministically. Stages: `block`
-// (after the N-th saved block of this rank), `write` (HDF5 file open, nothing committed),
-// `commit` (output in place, journal not yet removed). @RANK limits it to one rank (a rank
-// that dies while the others go on).
+// Test hook (CONTACTSWEEP_TEST_KILL=STAGE[:N][@RANK][/SIGNAL]): the process kills itself with
+// SIGKILL at a chosen point, so that tests can interrupt real runs deterministically. Stages:
+// `block` (after the N-th saved block of this rank), `write` (HDF5 file open, nothing
+// committed), `commit` (output in place, journal not yet removed). @RANK limits it to one rank
+// (a rank that dies while the others go on). /term or /int sends the process SIGTERM or SIGINT
+// instead, which it handles (stop_signal.hpp) and goes on.
 void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   static const char* spec = std::getenv("CONTACTSWEEP_TEST_KILL");
   if (spec == nullptr) return;
   std::string s(spec);
+  int signal = SIGKILL;
+  if (auto slash = s.find('/'); slash != std::string::npos) {
+    signal = s.substr(slash + 1) == "int" ? SIGINT : SIGTERM;
+    s = s.substr(0, slash);
+  }
   auto at_rank = s.find('@');
   if (at_rank != std::string::npos && std::stoi(s.substr(at_rank + 1)) != rank) return;
   s = s.substr(0, at_rank);
   auto colon = s.find(':');
   std::int64_t at = colon == std::string::npos ? 0 : std::stoll(s.substr(colon + 1));
-  if (s.substr(0, colon) == stage && count == at) std::raise(SIGKILL);
+  // kill(), not raise(): a signal to the process, as a batch system sends it, taken by any
+  // thread.
+  if (s.substr(0, colon) == stage && count == at) ::kill(::getpid(), signal);
+}
+
+// Collective: whether any rank received a stop signal (stop_signal.hpp). If one did, every rank
+// throws StoppedBySignal together: the blocks finished are in the journal (every rank's journal
+// writer has finished), which stays for --resume; the temporary output is removed as the
+// exception leaves run_sweep (OpenOutput). Checked after the block loop and again before the
+// final write; a signal during the write is ignored (the write completes, or a second signal
+// ends the process at once): the journal then holds every block.
+void stop_if_signalled(const Journal& journal, std::int64_t local_blocks, const Comm& c) {
+  int signal = stop_signal();
+  allreduce(c.comm, &signal, 1, MPI_INT, MPI_MAX);
+  if (signal == 0) return;
+  std::int64_t blocks = local_blocks;
+  allreduce(c.comm, &blocks, 1, MPI_INT64_T, MPI_SUM);
+  std::int64_t saved = -1;  // rank 0 holds the journal's lock: it counts what is there
+  if (c.rank == 0) {
+    try {
+      saved = journal.inspect().block_files;
+    } catch (const std::exception&) {
+    }
+  }
+  bcast(c.comm, &saved, 1, MPI_INT64_T, 0);
+  throw StoppedBySignal(
+      signal, fmt::format("stopped by {}; {}{} blocks saved in {}; run again with --resume to "
+                          "continue",
+                          stop_signal_name(signal), saved >= 0 ? fmt::format("{} of ", saved) : "",
+                          blocks, journal.directory()));
 }
 
 // The scene's header and struct for a kernel built at run time: scene.K's generated one, or a
@@ -490,6 +526,7 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   if (!failure && stream.failure()) failure = stream.failure();
   watch.finish();
   throw_if_any_failed(comm, failure);
+  stop_if_signalled(journal, static_cast<std::int64_t>(blocks.size()), c);
   // Serial only (RunControl): no other rank to agree with. The caller (the Python module) has
   // no --resume, and a journal resumes only under the build that wrote it: nobody could use
   // it, and it would refuse the next run to this output. Removed.
@@ -516,6 +553,9 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
           std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count());
   }
 
+  // A signal during the attractors' description: stopped before the write. From here on one is
+  // ignored.
+  stop_if_signalled(journal, static_cast<std::int64_t>(blocks.size()), c);
   if (!options.quiet && c.rank == 0 && file_bytes(plan) >= kAnnouncedWriteBytes)
     log("contactsweep: computed every point; completing {} ({})", options.output,
         gib(file_bytes(plan)));

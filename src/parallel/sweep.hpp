@@ -32,6 +32,17 @@ class Interrupted : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The run was stopped by a signal (SIGTERM, SIGINT: parallel/stop_signal.hpp), thrown on every
+// rank together: no block was started after it, every block finished is saved in the journal,
+// which stays for --resume, and the temporary output is removed. what() says so (rank 0 prints
+// it); the program exits with 128 + `signal`.
+class StoppedBySignal : public std::runtime_error {
+ public:
+  StoppedBySignal(int signal, const std::string& message)
+      : std::runtime_error(message), signal(signal) {}
+  int signal;
+};
+
 struct SweepSummary {
   std::int64_t points = 0;
   std::int64_t computed_points = 0;  // integrated by this invocation (not loaded on --resume)
