@@ -18,6 +18,7 @@
 #include "physics/z2_damping.hpp"
 #include "support/format_number.hpp"
 #include "support/p_dependent_forces.hpp"
+#include "support/time_dependent_scenes.hpp"
 
 namespace cs {
 namespace {
@@ -66,6 +67,43 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   EXPECT_NEAR(x.z, z1, 1e-15);
   EXPECT_NEAR(log_lambda<Z2Damping>(x), std::log(lambda1), 1e-15);
   EXPECT_EQ(x.broken, 0.0);
+}
+
+// One step of a time-dependent K (the forced oscillator, K = p²/2 + ω²q²/2 − F q cos Ωt − γz),
+// from the same formulas with the times the method's header gives each line: t_n for the first
+// half step and the predictors, t_n + h/2 for the midpoint rates, t_n + h for the end forces.
+// The order tests with time-dependent K (test_methods.cpp) measure q, p and ln λ only; here z,
+// whose rate reads t at the midpoint, is checked too.
+TEST(HybridLeapfrog, OneStepOfATimeDependentKTakesEachLineAtItsTime) {
+  using S = test::ForcedOscillator;
+  const double omega = 1.1, gamma = 0.2, F = 0.5, Omega = 1.3, h = 0.05, t0 = 0.7;
+  const double q0 = 0.7, p0 = -0.4, z0 = 0.9, lambda0 = 1.3;
+  auto Kq = [&](double q, double t) { return omega * omega * q - F * std::cos(Omega * t); };
+  auto zrate = [&](double q, double p, double z, double t) {  // K − pK_p
+    return -0.5 * p * p + 0.5 * omega * omega * q * q - F * q * std::cos(Omega * t) - gamma * z;
+  };
+  const double Kz = -gamma;
+  double lambda_h = lambda0 * (1 - h / 2 * Kz);
+  double p_h = (lambda0 / lambda_h) * (p0 - h / 2 * Kq(q0, t0));
+  double z_h = z0 + h / 2 * zrate(q0, p0, z0, t0);
+  double q_h = q0 + h / 2 * p0;
+  double z1 = z0 + h * zrate(q_h, p_h, z_h, t0 + h / 2);
+  double q1 = q0 + h * p_h;
+  double lambda1 = lambda_h / (1 + h / 2 * Kz);
+  double p1 = (lambda_h / lambda1) * p_h - h / 2 * Kq(q1, t0 + h);
+
+  const ParamsOf<S, double> c{omega, gamma, F, Omega};
+  LaneState<1> x{};
+  x.q[0] = q0, x.p[0] = p0, x.z = z0, x.mu = std::log(lambda0), x.t = t0;
+  HybridLeapfrog::start<S>(x, c);
+  auto k = HybridLeapfrog::coefficients<S>(h, c, x);
+  HybridLeapfrog::step<S, kAll>(x, c, k);
+  // Same formulas, different association of a few products: a few ulps. A line at the wrong
+  // time moves its result by about h·F·Ω·(h/2) ~ 1e-3.
+  EXPECT_NEAR(x.q[0], q1, 1e-15);
+  EXPECT_NEAR(x.p[0], p1, 1e-15);
+  EXPECT_NEAR(x.z, z1, 1e-15);
+  EXPECT_NEAR(log_lambda<S>(x), std::log(lambda1), 1e-15);
 }
 
 // The decision of docs/methods.md ("Floating-point contraction"): each update x + h·f, p − h/2·K_q is rounded once.

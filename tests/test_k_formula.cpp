@@ -219,6 +219,15 @@ TEST(KFormulaErrors, RefusedWithTheReason) {
   }
 }
 
+// "At most 64 degrees of freedom" (the message for q65 above) admits the 64th itself.
+TEST(KFormulaErrors, TheSixtyFourthDegreeOfFreedomIsAccepted) {
+  KFormula f = parse_k("p64^2/2 + q64^2/2");
+  EXPECT_EQ(f.traits.dof, 64);
+  ASSERT_EQ(f.positions.size(), 64u);
+  EXPECT_EQ(f.positions.back(), "q64");
+  EXPECT_EQ(f.momenta.back(), "p64");
+}
+
 // Reserved words of C++ and likely macros still work: the field is renamed, the name is kept.
 TEST(KFormulaErrors, CppNamesAreRenamedNotRefused) {
   KFormula f = parse_k("p^2/2 + int*q + errno*q + T*q + NAN*q + Params*q + int_*q + gamma*z");

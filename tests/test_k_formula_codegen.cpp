@@ -114,6 +114,12 @@ TEST(KFormulaPrecision, ConstantsAreTheNearestDoubleOfTheirExactValue) {
       {"(sqrt(2) + 1)*(sqrt(2) - 1)", 1.0},
       {"sin(pi/7) - cos(5*pi/14)", 0.0},
       {"tanh(1e300)", 1.0},
+      // Signs that need no reference: tanh(x) is within 2^-54 of -1 for x < -19.1, so it rounds
+      // to -1.0 (GiNaC keeps this argument, a sum, inside tanh: its sign is the folder's to find);
+      // e^-750 is below 2^-1075, half the least subnormal, so -e^-750 rounds to -0.0 (IEEE
+      // rounding keeps the sign; it is above 2^-1100, so the folder's rounding decides it).
+      {"tanh(1 - exp(1000))", -1.0},
+      {"-exp(-750)", -0.0},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.constant);
@@ -251,6 +257,22 @@ TEST(KFormulaSize, LongProductHasTheTraitsOfAShortOne) {
     KFormula big = parse_k("p^2/2 + " + product(1100) + rest);
     KFormula small = parse_k("p^2/2 + " + product(20) + rest);
     expect_same_traits(big, small);
+  }
+  // K_z = -t: state-free but time-dependent, so not constant; K_z = -p: the forces read p (the
+  // product's K_q reads no p, so only K_z can say so). By hand, and as the short K's analysis.
+  struct KzCase {
+    const char* rest;
+    bool kz_constant, kz_state_free, p_in_forces;
+  };
+  for (const KzCase& c :
+       {KzCase{" - t*z", false, true, false}, KzCase{" - p*z", false, false, true}}) {
+    SCOPED_TRACE(c.rest);
+    KFormula big = parse_k("p^2/2 + " + product(1100) + c.rest);
+    KFormula small = parse_k("p^2/2 + " + product(20) + c.rest);
+    expect_same_traits(big, small);
+    EXPECT_EQ(big.traits.kz_constant, c.kz_constant);
+    EXPECT_EQ(big.traits.kz_state_free, c.kz_state_free);
+    EXPECT_EQ(big.traits.p_in_forces, c.p_in_forces);
   }
   KFormula f = parse_k("p^2/2 + " + product(1100) + " - gamma*z");
   EXPECT_EQ(evaluate_k(f, {{"q", -1.0}, {"p", 2.0}, {"z", 1.0}, {"c", 3.0}, {"gamma", 0.5}}), 1.5);

@@ -13,6 +13,7 @@
 #include "engine/attractor_table.hpp"
 #include "engine/basin_column.hpp"
 #include "engine/recurrence/lane_records.hpp"
+#include "engine/recurrence/recurrence_table.hpp"
 #include "engine/run_plan.hpp"
 #include "io/spec_parser.hpp"
 #include "numerics/method_catalog.hpp"
@@ -93,6 +94,85 @@ TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) 
   count_undecided(*plan, block, before, counts);
   EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
             (std::vector<std::int64_t>{2, 1, 0, 1, 0, 0, 0}));
+}
+
+// A lane settled by a fixed-point mapper on the block's last settlement record keeps that
+// record's number and has no entry (lane_records.hpp): its record reads as none (NaN), and
+// labelled 0 it counts as settled on no attractor (reason 0).
+TEST(LaneRecords, FixedPointLaneOnTheLastSettlementHasNoEntry) {
+  const RunSpec spec = parse_run_spec(kSpec, {"grid.q_0.n=2", "grid.p_0.n=3"}, "test spec");
+  const auto plan = plan_of(spec);
+  ASSERT_GE(plan->map.basin_cells, 0);
+  BlockResults block({0, 3}, plan->columns);
+  const auto at = [&](int c) -> std::vector<double>& {
+    return block.columns[static_cast<std::size_t>(c)];
+  };
+  // Settlements: a recurrence's cell centre (period 0), then a fixed point (period 1), the last.
+  at(plan->map.basin_records) = {0.5, 0.5, 0.0, -1.0, 0.0, 1.0};
+  // Lanes: settled by recurrences (record a), on the fixed point, unsettled (no recurrence).
+  at(plan->map.basin) = {1.0, 2.0, 0.0};
+  std::vector<double> none(RecurrenceSearch::kRecordWidth, std::nan("")), a = none;
+  a[0] = 7, a[1] = 3, a[2] = 7, a[3] = 9, a[4] = 12;
+  auto& cells = at(plan->map.basin_cells);
+  cells.clear();
+  for (const auto* r : {&a, &none, &none}) cells.insert(cells.end(), r->begin(), r->end());
+  at(plan->map.undecided_reason) = {0.0, 0.0, 1.0};
+  compact_basin(*plan, block);
+  ASSERT_TRUE(block.records_compacted);
+  const ExpandedBasin provisional(*plan, block);
+  // The fixed point's lane keeps 2 (of 2 settlements); record a is entry 3.
+  EXPECT_EQ(at(plan->map.basin), (std::vector<double>{3.0, 2.0, 0.0}));
+  EXPECT_EQ(recurrence_record_of(*plan, block, 0)[1], 3.0);
+  const double* fixed = recurrence_record_of(*plan, block, 1);
+  for (int k = 0; k < RecurrenceSearch::kRecordWidth; ++k) EXPECT_TRUE(std::isnan(fixed[k])) << k;
+  const std::vector<double> before = at(plan->map.basin);
+  at(plan->map.basin) = {1.0, 0.0, 0.0};
+  std::int64_t counts[kUndecidedReasons] = {};
+  count_undecided(*plan, block, before, counts);
+  EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
+            (std::vector<std::int64_t>{1, 1, 0, 0, 0, 0, 0}));
+}
+
+// Attractors found by recurrences are joined by their cells only (recurrence_table.hpp): two
+// fixed points, each located in one cell of its own, far apart, stay two attractors although
+// their records give the same located count (record[1], a count and not a cell). Each names as
+// its source the smallest grid index of its lanes, and has its smallest cell's centre as point.
+TEST(LaneRecords, RecurrenceAttractorsAreJoinedByTheirCellsOnly) {
+  const RunSpec spec = parse_run_spec(kSpec, {"grid.q_0.n=2", "grid.p_0.n=3"}, "test spec");
+  const auto plan = plan_of(spec);
+  const RecurrenceSearch& r = plan->recurrence;
+  ASSERT_EQ(r.cells.size(), 2u);
+  ASSERT_GE(r.cells[0], 8);
+  // Cell (i, j) along q (the fastest) and p has the key i + cells_q·j (cell_grid.hpp).
+  const std::int64_t row = r.cells[1] / 2;
+  const auto key = [&](std::int64_t i) { return static_cast<std::uint64_t>(i + r.cells[0] * row); };
+  const std::uint64_t left = key(2), right = key(r.cells[0] - 3);
+  std::vector<double> records;
+  std::vector<std::size_t> offsets;
+  const auto add = [&](double source, std::uint64_t cell) {
+    offsets.push_back(records.size());
+    records.insert(records.end(), {source, 0.0, 0.0, 0.0, 0.0});  // head, a point (not read)
+    std::vector<double> record(RecurrenceSearch::kRecordWidth, std::nan(""));
+    record[0] = static_cast<double>(cell), record[1] = 1.0, record[2] = static_cast<double>(cell);
+    records.insert(records.end(), record.begin(), record.end());
+  };
+  add(40.0, left);
+  add(12.0, left);
+  add(7.0, right);
+  std::vector<Attractor> table;
+  add_recurrence_attractors(*plan, records, offsets, table);
+  ASSERT_EQ(table.size(), 2u);
+  EXPECT_EQ(table[0].cells, (std::vector<std::uint64_t>{left}));
+  EXPECT_EQ(table[1].cells, (std::vector<std::uint64_t>{right}));
+  EXPECT_EQ(table[0].source, 12);
+  EXPECT_EQ(table[1].source, 7);
+  EXPECT_EQ(table[0].period, 0);
+  // The centre of cell (2, row): lower + (index + 1/2)·size, to rounding (4 ulps: the sum may
+  // round differently from however the code groups it).
+  ASSERT_EQ(table[0].point.size(), 2u);
+  EXPECT_DOUBLE_EQ(table[0].point[0], r.lower[0] + 2.5 * r.cell_size[0]);
+  EXPECT_DOUBLE_EQ(table[0].point[1],
+                   r.lower[1] + (static_cast<double>(row) + 0.5) * r.cell_size[1]);
 }
 
 // A block whose lanes nearly all differ in their records (a strange attractor's sketches) would

@@ -107,6 +107,25 @@ TEST(CellGrid, AnglesFoldOntoAWholeNumberOfCells) {
   EXPECT_FALSE(grid.adjacent(grid.key(first), grid.key(third)));
 }
 
+// The box's last cell may reach past `upper` (cell_grid.hpp): [0, 1) in cells of 0.3 is 4 cells,
+// and 0.95 lies in the fourth. A tiny negative angle is just below the period, in the last cell,
+// whatever the number of cells (its folded value rounds to the period itself).
+TEST(CellGrid, TheLastCellOfTheBoxAndOfAnAngle) {
+  const Grid2 box({0.0, 0.0}, {1.0, 1.0}, {0.3, 0.3}, {0.0, 0.0});
+  EXPECT_EQ(box.cells(0), 4);
+  const double x[2] = {0.95, 0.1};
+  ASSERT_NE(box.key(x), Grid2::kOutside);
+  EXPECT_EQ(box.index(box.key(x), 0), 3);
+  for (int n = 3; n <= 64; ++n) {
+    const CellGrid<2> grid({0.0, -1.0}, {0.0, 1.0}, {2 * kPi / n, 0.25}, {2 * kPi, 0.0});
+    ASSERT_EQ(grid.cells(0), n);
+    const double y[2] = {-1e-300, 0.1};
+    const std::uint64_t key = grid.key(y);
+    EXPECT_EQ(grid.index(key, 0), n - 1) << n;
+    EXPECT_EQ(grid.index(key, 1), 4) << n;  // (0.1 + 1)/0.25 = 4.4
+  }
+}
+
 TEST(CellSet, AddsOnceGrowsAndStopsAtItsBound) {
   CellSet set(1000);
   for (std::uint64_t k = 0; k < 1000; ++k)
