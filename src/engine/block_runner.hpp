@@ -280,23 +280,40 @@ class BlockRunner {
   // once every lane of a run to t_end has settled, the pass is the bookkeeping alone.
   void screen() {
     ++chunks_;
-    if (mappers_.flagging()) screen_pass<true>();
-    else screen_pass<false>();
+    if (mappers_.flagging()) screen_for_scene<true>();
+    else screen_for_scene<false>();
     mappers_.screen(main_, attention_);
     if constexpr (kFormulas) formulas_.screen(attention_);
   }
 
+  // The pass for the scene's traits: whether a lane's breakdown flag can be set (K_z not
+  // constant) and whether its step count is read for its time. A proxy scene's are its step
+  // kernel's (engine/proxy_scene.hpp), known at run time: each pairing is compiled and the run
+  // picks its own, since checking what a scene never sets cost a K's map 9 %.
   template <bool kFlags>
+  void screen_for_scene() {
+    if constexpr (requires { S::run_time_traits(); }) {
+      const auto [kz_constant, reads_time] = S::run_time_traits();
+      if (kz_constant && !reads_time) screen_pass<kFlags, false, false>();
+      else if (kz_constant) screen_pass<kFlags, false, true>();
+      else if (!reads_time) screen_pass<kFlags, true, false>();
+      else screen_pass<kFlags, true, true>();
+    } else {
+      screen_pass<kFlags, !S::kz_constant || kAdaptive, time_dependent<S>()>();
+    }
+  }
+
+  template <bool kFlags, bool kMayBreak, bool kReadsTime>
   void screen_pass() {
     Tile& t = main_;
 #pragma GCC ivdep
     for (int i = 0; i < W; ++i) {
       LookInt healthy = 1;
-      if constexpr (!S::kz_constant || kAdaptive) healthy = t.broken[i] <= 0.0;  // else never set
+      if constexpr (kMayBreak) healthy = t.broken[i] <= 0.0;  // else never set
       for (int d = 0; d < D; ++d)
         healthy &= (std::fabs(t.q[d][i]) <= kDivergenceBound) & (std::fabs(t.p[d][i]) <= kDivergenceBound);
       countdown_[i] -= 1;
-      if constexpr (time_dependent<S>()) t.steps_done[i] += plan_.chunk;  // read for t alone
+      if constexpr (kReadsTime) t.steps_done[i] += plan_.chunk;  // read for t alone
       LookInt due = countdown_[i] <= 0;
       if constexpr (kAdaptive) due |= t.ad.t[i] >= plan_.spec.t_end;
       LookInt a = (!healthy) | due;

@@ -122,19 +122,29 @@ struct LaneTile {
 
  private:
   // Params and Coef are aggregates of doubles only (checked), so a lane's fields rebuild the
-  // struct bit for bit; a tile with more room than the struct uses its first fields.
+  // struct bit for bit; a tile with more room than the struct uses its first fields. A struct
+  // with room for any scene's (a proxy scene's, engine/proxy_scene.hpp) says how many of its
+  // fields are in use (used_fields): only those are moved, since each field is a cache line of
+  // its own in the tile, and a lane's load and end are on the runner's path.
   template <class Struct, int N>
   static Struct gather(const double (&field)[N][W], int i) {
     constexpr int n = fields_of<Struct, N>();
     std::array<double, n> values;
-    for (int j = 0; j < n; ++j) values[j] = field[j][i];
+    if constexpr (requires { Struct::used_fields(); }) {
+      values.fill(0.0);
+      for (int j = 0, used = Struct::used_fields(); j < used; ++j) values[j] = field[j][i];
+    } else {
+      for (int j = 0; j < n; ++j) values[j] = field[j][i];
+    }
     return std::bit_cast<Struct>(values);
   }
   template <class Struct, int N>
   static void scatter(double (&field)[N][W], int i, const Struct& s) {
     constexpr int n = fields_of<Struct, N>();
+    int used = n;
+    if constexpr (requires { Struct::used_fields(); }) used = Struct::used_fields();
     const auto values = std::bit_cast<std::array<double, n>>(s);
-    for (int j = 0; j < n; ++j) field[j][i] = values[j];
+    for (int j = 0; j < used; ++j) field[j][i] = values[j];
   }
   template <class Struct, int N>
   static constexpr int fields_of() {

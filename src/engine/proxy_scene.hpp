@@ -6,10 +6,9 @@
 // which computes them with the scene's own code: the same bits as a whole kernel
 // (tests/test_custom_k.sh).
 //
-// What the runner reads of the scene's traits is chosen to be right for every scene: it checks a
-// lane's breakdown flag (zero where K_z is constant) and keeps the lanes' step counts (read by
-// a time-dependent K's step loop alone). ln λ comes from the kernel, which knows which form the
-// lane carries. The tile's layout is the kernel's (LaneTile with the step kernel's room).
+// The runner's screen reads the scene's traits from the kernel (run_time_traits): whether K_z is
+// constant (else it checks a lane's breakdown flag) and whether K reads t (else it keeps no step
+// counts). ln λ comes from the kernel, which knows which form the lane carries. The tile's layout is the kernel's (LaneTile with the step kernel's room).
 #pragma once
 
 #include <algorithm>
@@ -49,12 +48,21 @@ struct ProxyScene {
   static constexpr int dof = D;
   static constexpr bool is_proxy = true;
   static constexpr bool z_feeds_back = false;  // read by the step loop alone, in the kernel
-  static constexpr bool kz_constant = false;   // the runner then checks the breakdown flag
-  static constexpr bool time_dependent = true;  // the runner then keeps the lanes' step counts
+  // The traits the runner reads are the kernel's scene's, at run time (run_time_traits); these
+  // are what is right for any scene where it reads them at compile time.
+  static constexpr bool kz_constant = false;
+  static constexpr bool time_dependent = true;
+  struct RunTimeTraits {
+    bool kz_constant, time_dependent;
+  };
+  static RunTimeTraits run_time_traits() {
+    return {step_kernel().kz_constant, step_kernel().time_dependent};
+  }
 
   template <class T>
   struct Params {
     T v[kStepKernelParamFields];
+    static int used_fields() { return step_kernel().param_fields; }  // LaneTile moves these
   };
   // The scene's parameters from `values` (its own count of them), the rest of the room zero.
   template <class T>
@@ -88,6 +96,7 @@ struct ProxyMethod {
   template <class T>
   struct Coef {
     T v[kStepKernelCoefFields];
+    static int used_fields() { return step_kernel().coef_fields; }  // LaneTile moves these
   };
   template <Scene S>
   static Coef<double> coefficients(double h, const ParamsOf<S, double>& c,

@@ -19,7 +19,7 @@
 
 namespace cs {
 
-inline constexpr std::uint32_t kStepKernelAbi = 1;
+inline constexpr std::uint32_t kStepKernelAbi = 2;
 inline constexpr const char* kStepKernelEntry = "contactsweep_step_kernel";
 // The runner's tile: its lanes, and its room for a scene's parameters and a method's
 // coefficients (contact_splitting6 has 31). A K with more parameters, or more than
@@ -38,6 +38,8 @@ struct StepKernel {
   int param_fields;  // the scene's Params (its parameters, or one unused field where it has none)
   int coef_fields;   // the method's Coef
   std::size_t tile_bytes;
+  bool kz_constant;     // K_z constant: a lane's breakdown flag is never set
+  bool time_dependent;  // K reads t: the step loop reads the lanes' step counts
   // The tile (LaneTile of the program's proxy scene) `steps` steps on; parameters and
   // coefficients from the tile's lanes when the kernel was built for per-lane parameters.
   void (*advance)(void* tile, int steps, const double* uniform_params, const double* uniform_coef,

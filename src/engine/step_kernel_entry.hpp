@@ -66,6 +66,7 @@ struct StepKernelOf {
   }
 
   static constexpr StepKernel table{kStepKernelAbi, D, kParamFields, kCoefFields, sizeof(Tile),
+                                    S::kz_constant, time_dependent<S>(),
                                     &advance, &start, &coefficients, &breaks_down, &defined_at,
                                     &K, &log_lambda, &diverged, &natural_frequencies};
 };
