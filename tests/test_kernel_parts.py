@@ -12,8 +12,9 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
 * The same K with a basin map to t_end (no early stop): the energy trap is compiled in; its
   final states are the same bits as the run without the map, which had no mapper at all, and
   as the same map in 2 x 1 ranks x threads.
-* A forced K on its stroboscopic map without recurrences: the stroboscopic cycles alone (the
-  energy trap is asked for, exact_trap's default, but a K that reads t has none to compile).
+* A forced K on its stroboscopic map without recurrences: the energy trap is asked for
+  (exact_trap's default), but a K that reads t has none, so the run builds a step kernel and
+  the program's runner holds the stroboscopic cycles: no kernel names a mapper.
 * The built-in double well with lyapunov and no basin map (a kernel built at run time): no
   mapper either, and its final states are the built-in kernel's (every mapper, none active).
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
@@ -36,6 +37,9 @@ check = runs.check
 
 MAPPERS = ("EnergyTrap<", "WellFinder<", "Recurrences<", "StroboscopicCycles<")
 DENSE = "Dop853Dense<"  # dop853's continuous extension (numerics/dop853_dense.hpp)
+# A step kernel's entry (engine/step_kernel.hpp): a K's run whose mappers, if any, are all the
+# program's (no energy trap) builds one, and the program's runner holds the mappers.
+STEP_ENTRY = "contactsweep_step_kernel"
 
 
 def parts_in(cache, parts=MAPPERS):
@@ -125,11 +129,11 @@ p_0 = { from = -1.0, to = 1.0, n = 4 }
 [measures]
 basin = { period = 5.235987755982989, recurrence = false }
 """
-_, found = run_in_fresh_cache(FORCED, "forced_k_strobe")
+_, found = run_in_fresh_cache(FORCED, "forced_k_strobe", parts=MAPPERS + (STEP_ENTRY,))
 runner = [m for m in found.values() if m]
-check("forced K on its stroboscopic map (no energy trap: K reads t; recurrences off): the "
-      "stroboscopic cycles alone",
-      runner == [{"StroboscopicCycles<"}], f"{found}")
+check("forced K on its stroboscopic map (no energy trap: K reads t; recurrences off): a step "
+      "kernel, no mapper in any kernel (the stroboscopic cycles run in the program)",
+      runner == [{STEP_ENTRY}], f"{found}")
 
 BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"', 'name = "double_well"')
 builtin, _ = runs.launch(BUILTIN, "well_builtin")
