@@ -336,7 +336,8 @@ template <Scene S, class Method, Carry carry, bool Uniform, int W, class AfterSt
 // A time-dependent scene's lane is at time t_start + n·h, n from its own step count: the same
 // bits wherever the lane runs, and no drift from adding h up.
 template <Scene S, class Method, Carry carry, bool Uniform, int W, int PF, int CF, class AfterStep>
-inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps, const ParamsOf<S, double>& uniform,
+inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps,
+                    const ParamsOf<S, double>& uniform,
                     const typename Method::template Coef<double>& uniform_coef, double t_start,
                     double h, AfterStep&& after_step) {
   if constexpr (adaptive_method<Method>()) {

@@ -8,7 +8,8 @@
 //
 // The runner's screen reads the scene's traits from the kernel (run_time_traits): whether K_z is
 // constant (else it checks a lane's breakdown flag) and whether K reads t (else it keeps no step
-// counts). ln λ comes from the kernel, which knows which form the lane carries. The tile's layout is the kernel's (LaneTile with the step kernel's room).
+// counts). ln λ comes from the kernel, which knows which form the lane carries. The tile's
+// layout is the kernel's (LaneTile with the step kernel's room).
 #pragma once
 
 #include <algorithm>
@@ -75,7 +76,8 @@ struct ProxyScene {
   // method's start and coefficients take them there).
   template <class X>
   static double K(const X& x, const Params<double>& c) {
-    static_assert(std::same_as<X, StateView<double>>, "a proxy scene evaluates K, not its partials");
+    static_assert(std::same_as<X, StateView<double>>,
+                  "a proxy scene evaluates K, not its partials");
     return step_kernel().K(x.q, x.p, x.z, x.t, c.v);
   }
   static bool diverged(const double* q, const double* p) { return step_kernel().diverged(q, p); }
@@ -118,7 +120,8 @@ struct ProxyMethod {
 // The step loop: the kernel's, chosen over lane_tile.hpp's as the more constrained template.
 template <ProxiedScene S, class Method, Carry carry, bool Uniform, int W, int PF, int CF,
           class AfterStep>
-inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps, const ParamsOf<S, double>& uniform,
+inline void advance(LaneTile<S, Method, W, PF, CF>& t, int steps,
+                    const ParamsOf<S, double>& uniform,
                     const typename Method::template Coef<double>& uniform_coef, double t_start,
                     double h, AfterStep&&) {
   step_kernel().advance(&t, steps, uniform.v, uniform_coef.v, t_start, h);
