@@ -308,6 +308,29 @@ SceneSource scene_source(const RunPlan& plan) {
                           : builtin_scene_source(plan.scene.name);
 }
 
+// Builds (or finds cached) the kernel `source` with its entry point, and says so; `what` names
+// it in the log. A K's basin map describes its attractors with the orbit kernel (wants_orbits:
+// wherever its table holds an attractor), built after the map: compiled now instead, beside
+// this one, a second compiler on the second core (a first map 2.3 -> 1.7 s on two cores:
+// docs/performance.md).
+void* kernel_with_orbit(const RunPlan& plan, const SceneSource& scene, const std::string& source,
+                        const char* entry, const std::string& what, const SweepOptions& options,
+                        MPI_Comm comm) {
+  std::optional<std::string> orbit_source;
+  if (plan.spec.custom && plan.map.basin >= 0)
+    orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
+  BuiltKernel built, orbit;
+  void* found = prepare_kernel(source, entry, comm, &built,
+                               orbit_source ? &*orbit_source : nullptr, &orbit);
+  if (built.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})", what, built.seconds,
+        built.library);
+  if (orbit.compiled && !options.quiet && rank_of(comm) == 0)
+    log("contactsweep: built the orbit kernel of scene.K beside it, to describe its attractors, "
+        "in {:.1f} s (cached: {})", orbit.seconds, orbit.library);
+  return found;
+}
+
 // A custom scene's kernel, compiled once per node and cached (kernel_build/), before anything
 // is written: a failed build leaves no journal and no file. A built-in scene goes through it too
 // when the run has the lyapunov tangent or measures as formulas (observe, stop): the built-in
@@ -328,49 +351,25 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
   }
   if (has_measure_formulas(plan.spec.measures))
     choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
-  const std::string source = kernel_source(scene.header, scene.struct_name, choice);
-  // A K's basin map describes its attractors with the orbit kernel (wants_orbits: wherever its
-  // table holds an attractor), built after the map: compiled now instead, beside the runner's,
-  // a second compiler on the second core (a first map 2.3 -> 1.7 s on two cores:
-  // docs/performance.md).
-  std::optional<std::string> orbit_source;
-  if (plan.spec.custom && plan.map.basin >= 0)
-    orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
-  BuiltKernel built, orbit;
-  void* entry = prepare_kernel(source, kKernelEntry, comm, &built,
-                               orbit_source ? &*orbit_source : nullptr, &orbit);
-  if (built.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the kernel of {} in {:.1f} s (cached: {})",
-        plan.spec.custom        ? "scene.K"
-        : plan.carry.tangent    ? "scene " + plan.scene.name + " with lyapunov"
-                                : "scene " + plan.scene.name + " with its measures",
-        built.seconds, built.library);
-  if (orbit.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the orbit kernel of scene.K beside it, to describe its attractors, "
-        "in {:.1f} s (cached: {})", orbit.seconds, orbit.library);
-  return reinterpret_cast<KernelFn>(entry);
+  const std::string what = plan.spec.custom       ? "scene.K"
+                           : plan.carry.tangent   ? "scene " + plan.scene.name + " with lyapunov"
+                                                  : "scene " + plan.scene.name + " with its measures";
+  return reinterpret_cast<KernelFn>(kernel_with_orbit(
+      plan, scene, kernel_source(scene.header, scene.struct_name, choice), kKernelEntry, what,
+      options, comm));
 }
 
 // A K's step kernel (engine/step_kernel.hpp) for runs the program's own runner can make
 // (runs_on_step_kernel): its step loop and per-lane functions alone, a fraction of a whole
-// kernel's compile (docs/performance.md). Compiled once per node and cached, as custom_kernel.
-// A basin map's orbit kernel is compiled beside it, as custom_kernel's.
+// kernel's compile (docs/performance.md). Compiled once per node and cached, as custom_kernel,
+// with a basin map's orbit kernel beside it.
 const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = scene_source(plan);
-  std::optional<std::string> orbit_source;
-  if (plan.map.basin >= 0)
-    orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
-  BuiltKernel built, orbit;
-  void* entry = prepare_kernel(step_kernel_source(scene.header, scene.struct_name, plan.spec.method,
-                                                  plan.carry, plan.grid.uniform_parameters()),
-                               kStepKernelEntry, comm, &built,
-                               orbit_source ? &*orbit_source : nullptr, &orbit);
-  if (built.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the kernel of scene.K in {:.1f} s (cached: {})", built.seconds,
-        built.library);
-  if (orbit.compiled && !options.quiet && rank_of(comm) == 0)
-    log("contactsweep: built the orbit kernel of scene.K beside it, to describe its attractors, "
-        "in {:.1f} s (cached: {})", orbit.seconds, orbit.library);
+  void* entry = kernel_with_orbit(
+      plan, scene,
+      step_kernel_source(scene.header, scene.struct_name, plan.spec.method, plan.carry,
+                         plan.grid.uniform_parameters()),
+      kStepKernelEntry, "scene.K", options, comm);
   const StepKernel* kernel = reinterpret_cast<const StepKernel* (*)()>(entry)();
   check_step_kernel(*kernel, plan);
   return kernel;
