@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# A kernel of K compiles against the precompiled prelude (kernel_build/kernel_prelude.hpp.gch):
-# the compiler, wrapped to print its include tree (-H), must mark the .gch as used ("! path"),
+# A kernel of K compiles against its precompiled prelude (kernel_build/kernel_prelude.hpp.gch for
+# a whole kernel, step_kernel_prelude.hpp.gch for a step kernel): the compiler, wrapped to print
+# its include tree (-H), must mark the .gch as used ("! path"),
 # not as tried and rejected ("x path": flags, macros or compiler differ from the build's), and
 # must not read the prelude's text instead. A drift between the build's precompile command
 # (src/CMakeLists.txt) and the kernels' own (kernel_cache.cpp) fails here, not silently slow.
@@ -42,6 +43,19 @@ check "the compiler used the precompiled prelude: $(grep -m1 'kernel_prelude' tr
 check "no precompiled header was rejected" '! grep -q "^x " tree.txt'
 check "the prelude's text was not read (the .gch stands for it)" \
   '! grep -q "^\. .*/kernel_build/kernel_prelude\.hpp$" tree.txt'
+# A run without a basin map builds a step kernel (engine/step_kernel.hpp), against the smaller
+# prelude of the step loop alone.
+sed -e 's/^basin = .*/# none/' k.toml >step.toml
+: >tree.txt
+CONTACTSWEEP_CXX=$work/cxx CONTACTSWEEP_CACHE=$work/cache OMP_NUM_THREADS=1 \
+  "$bin" run step.toml -o step.h5 --quiet 2>stderr
+rc=$?
+check "the step kernel's run exits 0 (exit $rc; $(head -c 300 stderr))" '[[ $rc == 0 ]]'
+check "the step kernel used its precompiled prelude: $(grep -m1 'step_kernel_prelude' tree.txt)" \
+  'grep -q "^! .*/kernel_build/step_kernel_prelude\.hpp\.gch$" tree.txt'
+check "no precompiled header was rejected" '! grep -q "^x " tree.txt'
+check "the step kernel read no header's text (the .gch holds all it includes): $(grep -m1 '^\.' tree.txt)" \
+  '! grep -q "^\.\+ " tree.txt'
 # The engine's code that does not depend on the scene is the program's, compiled once
 # (engine/engine_export.hpp): the kernel calls it there, and the program exports that and no
 # more of the engine.

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "engine/run_plan.hpp"
+#include "engine/lane_status.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/partials.hpp"
 

@@ -7,6 +7,10 @@
 // The program runs the same BlockRunner over a proxy scene (engine/proxy_scene.hpp) whose
 // members call this table.
 //
+// One step kernel serves every fixed-step method of its K: it holds a table per method, and its
+// entry point (kStepKernelEntry, a StepKernelEntry) returns the one a run names. A physicist
+// comparing methods on one K compiles once (docs/performance.md).
+//
 // Both sides lay the tile out alike: room for kStepKernelParamFields parameters and
 // kStepKernelCoefFields coefficients whatever the scene and method use (LaneTile's field
 // capacities), checked through tile_bytes. The kernel's key names the program that built it
@@ -19,8 +23,11 @@
 
 namespace cs {
 
-inline constexpr std::uint32_t kStepKernelAbi = 2;
+inline constexpr std::uint32_t kStepKernelAbi = 3;
 inline constexpr const char* kStepKernelEntry = "contactsweep_step_kernel";
+struct StepKernel;
+// The table of the named method, or null where the kernel has none (an adaptive method).
+using StepKernelEntry = const StepKernel* (*)(const char* method);
 // The runner's tile: its lanes, and its room for a scene's parameters and a method's
 // coefficients (contact_splitting6 has 31). A K with more parameters, or more than
 // kStepKernelMaxDof degrees of freedom, gets a whole kernel as before.
@@ -34,6 +41,7 @@ inline constexpr int kStepKernelMaxDof = 3;
 // LaneState<dof> (numerics/lane_state.hpp), the same type on both sides.
 struct StepKernel {
   std::uint32_t abi;
+  const char* method;  // its method's name (the spec's integrator.method)
   int dof;
   int param_fields;  // the scene's Params (its parameters, or one unused field where it has none)
   int coef_fields;   // the method's Coef

@@ -1,23 +1,53 @@
-// The kernel's side of a step kernel (step_kernel.hpp): the table of one scene, method, carried
-// state and parameter layout, included only by a step kernel's generated source
-// (kernel_build/kernel_source.cpp). Each entry is the scene's own template code, the code a whole
-// kernel's runner would have inlined: the same bits.
+// The kernel's side of a step kernel (step_kernel.hpp): the tables of one scene, carried state
+// and parameter layout, one per fixed-step method, included only by a step kernel's generated
+// source (kernel_build/kernel_source.cpp). Each entry is the scene's own template code, the code
+// a whole kernel's runner would have inlined: the same bits.
 #pragma once
 
 #include <cstring>
+#include <string_view>
 
 #include "engine/lane_health.hpp"
 #include "engine/lane_tile.hpp"
 #include "engine/proxy_scene.hpp"
 #include "engine/step_kernel.hpp"
 #include "numerics/lane_state.hpp"
+#include "numerics/method_list.hpp"
 #include "physics/partials.hpp"
 
 namespace cs {
 
-template <Scene S, class Method, Carry carry, bool Uniform>
-struct StepKernelOf {
+// The scene's per-lane functions, the same for every method: compiled once per kernel, not once
+// per method's table.
+template <Scene S>
+struct StepKernelScene {
   static constexpr int D = S::dof;
+  using Params = ParamsOf<S, double>;
+  static Params params(const double* values) {
+    Params c;
+    std::memcpy(&c, values, sizeof c);
+    return c;
+  }
+  static const LaneState<D>& state(const void* x) { return *static_cast<const LaneState<D>*>(x); }
+
+  static bool defined_at(const void* x, const double* c) {
+    return cs::defined_at<S>(state(x), params(c));
+  }
+  static double K(const double* q, const double* p, double z, double t, const double* c) {
+    return cs::K<S>(q, p, z, params(c), t);
+  }
+  static double log_lambda(const void* x) { return cs::log_lambda<S>(state(x)); }
+  static bool diverged(const double* q, const double* p) { return S::diverged(q, p); }
+  static void natural_frequencies(const double* c, double* omega) {
+    cs::natural_frequencies<S>(params(c), omega);
+  }
+};
+
+// The table of one method: its step loop, a lane's start and coefficients; the scene's functions.
+template <Scene S, class Method, Carry carry, bool Uniform>
+struct StepKernelOf : StepKernelScene<S> {
+  using SceneParts = StepKernelScene<S>;
+  using SceneParts::D, SceneParts::params, SceneParts::state;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
   using Tile = LaneTile<S, Method, kStepKernelWidth, kStepKernelParamFields, kStepKernelCoefFields>;
@@ -28,13 +58,7 @@ struct StepKernelOf {
   // The program's tile, field for field (its proxy scene's, with the same room).
   static_assert(sizeof(Tile) == sizeof(LaneTile<ProxyScene<D>, ProxyMethod, kStepKernelWidth>));
 
-  static Params params(const double* values) {
-    Params c;
-    std::memcpy(&c, values, sizeof c);
-    return c;
-  }
   static LaneState<D>& state(void* x) { return *static_cast<LaneState<D>*>(x); }
-  static const LaneState<D>& state(const void* x) { return *static_cast<const LaneState<D>*>(x); }
 
   static void advance(void* tile, int steps, const double* uniform_params,
                       const double* uniform_coef, double t_start, double h) {
@@ -53,22 +77,27 @@ struct StepKernelOf {
     std::memcpy(&k, coef, sizeof k);
     return Method::template breaks_down<S>(k);
   }
-  static bool defined_at(const void* x, const double* c) {
-    return cs::defined_at<S>(state(x), params(c));
-  }
-  static double K(const double* q, const double* p, double z, double t, const double* c) {
-    return cs::K<S>(q, p, z, params(c), t);
-  }
-  static double log_lambda(const void* x) { return cs::log_lambda<S>(state(x)); }
-  static bool diverged(const double* q, const double* p) { return S::diverged(q, p); }
-  static void natural_frequencies(const double* c, double* omega) {
-    cs::natural_frequencies<S>(params(c), omega);
-  }
 
-  static constexpr StepKernel table{kStepKernelAbi, D, kParamFields, kCoefFields, sizeof(Tile),
+  static constexpr StepKernel table{kStepKernelAbi, Method::description.name.data(), D,
+                                    kParamFields, kCoefFields, sizeof(Tile),
                                     S::kz_constant, time_dependent<S>(),
-                                    &advance, &start, &coefficients, &breaks_down, &defined_at,
-                                    &K, &log_lambda, &diverged, &natural_frequencies};
+                                    &advance, &start, &coefficients, &breaks_down,
+                                    &SceneParts::defined_at, &SceneParts::K, &SceneParts::log_lambda,
+                                    &SceneParts::diverged, &SceneParts::natural_frequencies};
 };
+
+// The table of the fixed-step method named `method` for scene S (StepKernelEntry): every one
+// whose coefficients fit the tile is compiled, so a second method of the same K needs no compile.
+template <Scene S, Carry carry, bool Uniform>
+const StepKernel* step_kernel_of(const char* method) {
+  const StepKernel* table = nullptr;
+  Methods::with_named(std::string_view(method), [&]<class Method>() {
+    constexpr bool fits = sizeof(typename Method::template Coef<double>) <=
+                          kStepKernelCoefFields * sizeof(double);
+    if constexpr (!adaptive_method<Method>() && fits)
+      table = &StepKernelOf<S, Method, carry, Uniform>::table;
+  });
+  return table;
+}
 
 }  // namespace cs

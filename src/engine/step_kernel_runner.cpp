@@ -3,6 +3,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "engine/block_runner.hpp"
 #include "engine/mappers/mapper_choice.hpp"
@@ -79,7 +80,8 @@ bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
 }
 
 void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
-  if (kernel.abi != kStepKernelAbi || kernel.dof != plan.scene.dof ||
+  if (kernel.abi != kStepKernelAbi || kernel.method == nullptr ||
+      std::string_view(kernel.method) != plan.spec.method || kernel.dof != plan.scene.dof ||
       kernel.param_fields < static_cast<int>(plan.scene.parameters.size()) ||
       kernel.param_fields > kStepKernelParamFields ||
       kernel.coef_fields != coefficient_count(plan.spec.method) ||

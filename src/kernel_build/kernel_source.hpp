@@ -52,9 +52,10 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
                           const KernelChoice& choice);
 
 // A step kernel's complete source text (entry point kStepKernelEntry, engine/step_kernel.hpp):
-// the step loop and per-lane functions the program's runner calls (runs_on_step_kernel).
+// the step loop and per-lane functions the program's runner calls (runs_on_step_kernel), for
+// every fixed-step method: the text, and so the kernel's key, names no method.
 std::string step_kernel_source(const std::string& scene_header, const std::string& scene_struct,
-                               const std::string& method, Carry carry, bool uniform_parameters);
+                               Carry carry, bool uniform_parameters);
 
 // The orbit kernel's complete source text (entry point kOrbitEntry).
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

@@ -367,10 +367,12 @@ const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, 
   const SceneSource scene = scene_source(plan);
   void* entry = kernel_with_orbit(
       plan, scene,
-      step_kernel_source(scene.header, scene.struct_name, plan.spec.method, plan.carry,
+      step_kernel_source(scene.header, scene.struct_name, plan.carry,
                          plan.grid.uniform_parameters()),
       kStepKernelEntry, "scene.K", options, comm);
-  const StepKernel* kernel = reinterpret_cast<const StepKernel* (*)()>(entry)();
+  const StepKernel* kernel = reinterpret_cast<StepKernelEntry>(entry)(plan.spec.method.c_str());
+  if (kernel == nullptr)
+    throw std::logic_error("the step kernel of scene.K has no table for " + plan.spec.method);
   check_step_kernel(*kernel, plan);
   return kernel;
 }
