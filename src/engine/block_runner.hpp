@@ -150,6 +150,7 @@ class BlockRunner {
     Book b;
     b.point = k;
     b.sync_n = sync_n0_;
+    if (plan_.map.sync_r >= 0) set_sync_omega(b, c);
     if constexpr (kFormulas) formulas_.clear(i);
     if (!defined_at<S>(x, c)) {  // no dynamics to integrate: K or a partial is not finite
       finish(i, b, x, c, LaneStatus::undefined_at_start);
@@ -254,8 +255,8 @@ class BlockRunner {
     };
   }
   auto sync_at() {
-    return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params& c) {
-      sample_sync(b, n, x.q, x.p, c);
+    return [this](Book& b, std::int64_t n, const LaneState<D>& x, const Params&) {
+      sample_sync(b, n, x.q, x.p);
     };
   }
   // observe_window's sample at nominal step n of the lane in `lane_slot` (no trajectory).
@@ -442,21 +443,29 @@ class BlockRunner {
     // An adaptive lane's sync samples after the first come from its steps' dense output.
     if (plan_.map.sync_r >= 0 && (!kAdaptive || b.n == 0) && b.n >= sync_n0_ &&
         b.n <= sync_n1_ && b.n % plan_.chunk == 0) {
-      sample_sync(b, b.n, x.q, x.p, c);
+      sample_sync(b, b.n, x.q, x.p);
       if constexpr (kAdaptive) b.sync_n = b.n + plan_.chunk;
     }
   }
 
   // The phases' ω: the spec's, else the scene's own (natural_frequencies, scene_concept.hpp).
-  void sample_sync(Book& b, std::int64_t n, const double* q, const double* p, const Params& c) {
+  // A lane's parameters fix them: taken once, at its load, not at every sample (a step
+  // kernel's scene answers through its table: a call per sample cost its sync maps ~5 %).
+  void set_sync_omega(Book& b, const Params& c) {
+    if constexpr (D >= 2) {
+      const auto& sync = *plan_.spec.measures.sync;
+      double omega[D];
+      natural_frequencies<S>(c, omega);
+      b.sync_omega[0] = omega[sync.dof[0]], b.sync_omega[1] = omega[sync.dof[1]];
+      if (sync.omega) b.sync_omega[0] = (*sync.omega)[0], b.sync_omega[1] = (*sync.omega)[1];
+    }
+  }
+  void sample_sync(Book& b, std::int64_t n, const double* q, const double* p) {
     if constexpr (D >= 2) {
       const auto& sync = *plan_.spec.measures.sync;
       const int i = sync.dof[0], j = sync.dof[1];
-      double omega[D];
-      natural_frequencies<S>(c, omega);
-      double omega_i = omega[i], omega_j = omega[j];
-      if (sync.omega) omega_i = (*sync.omega)[0], omega_j = (*sync.omega)[1];
-      b.sync.sample(n, sync_n0_, sync_n1_, q[i], p[i], q[j], p[j], omega_i, omega_j);
+      b.sync.sample(n, sync_n0_, sync_n1_, q[i], p[i], q[j], p[j], b.sync_omega[0],
+                    b.sync_omega[1]);
     }
   }
 

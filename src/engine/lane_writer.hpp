@@ -25,6 +25,7 @@ struct LaneBook {
   Settlement<2 * D> basin;  // where a basin mapper settled it
   std::int64_t samples_recorded = 0;  // trajectory samples 0 … samples_recorded − 1 written
   SyncTracker sync;
+  double sync_omega[2] = {0.0, 0.0};  // the phases' ω of the sync's two dof, set at the lane's load
   std::int64_t sync_n = 0;  // an adaptive lane's next sync sample, a step of the nominal clock
   std::int64_t strobe_k = 0;  // an adaptive lane's next stroboscopic sample (RunPlan::attractors)
   std::int64_t window_n = 0;  // an adaptive lane's next observe_window sample, a nominal step
