@@ -138,6 +138,41 @@ assert 'basin' in a and compared >= 4, sorted(a)
 "
   check "the basin map without the trap built a step kernel" test "$(step_sources)" = $((steps_before + 1))
 else bad "basin map without the trap runs"; fi
+# With the energy trap too: the step kernel is built with the trap's uses of K (its screen's E
+# over a tile, the wells, a well's bottom: engine/step_kernel.hpp's StepKernelTrap), the trap
+# itself runs in the program, and the map is the built-in's bit for bit.
+sed -e 's|^final_state = true|basin = {}|' builtin.toml >b_trap.toml
+sed -e 's|^final_state = true|basin = {}|' as_k.toml >k_trap.toml
+sed -i 's/^method = .*/method = "rk4"/' b_trap.toml k_trap.toml
+steps_before=$(step_sources)
+if run b_trap.toml -o b_trap.h5 2>"$work/stderr" && run k_trap.toml -o k_trap.h5 2>"$work/stderr"; then
+  check "a basin map with the energy trap, K on a step kernel, equals the built-in bit for bit" py "
+import h5py, numpy as np
+a, b = h5py.File('b_trap.h5'), h5py.File('k_trap.h5')
+assert a.attrs['energy_trap'] == b.attrs['energy_trap'] == 'used', (a.attrs['energy_trap'], b.attrs['energy_trap'])
+assert set(a) == set(b), (sorted(a), sorted(b))
+compared = 0
+for v in a:
+    if v.startswith('attractor'):
+        continue
+    x, y = a[v][...], b[v][...]
+    if v == 'basin':  # the built-in names its wells by the sign of q (-1, 1), a K numbers them
+        pairs = set(zip(x.ravel().tolist(), y.ravel().tolist()))
+        assert len(pairs) == len({u for u, _ in pairs}) == len({w for _, w in pairs}) == 3, pairs
+        assert (0, 0) in pairs, pairs
+        compared += 1
+        continue
+    assert x.dtype == y.dtype and x.shape == y.shape, v
+    if x.dtype.kind == 'f':
+        x, y = x.view(np.uint64), y.view(np.uint64)
+    assert np.array_equal(x, y), v
+    compared += 1
+assert 'basin' in a and 'trap_verdict' not in a and compared >= 4, sorted(a)
+"
+  check "the basin map with the trap built a step kernel with the trap's entries" \
+    test "$(step_sources)" = $((steps_before + 1)) -a \
+    "$(grep -l 'contactsweep_step_kernel' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | xargs grep -l 'true>(method)' | wc -l)" = 1
+else bad "basin map with the trap runs"; fi
 # A K of more degrees of freedom than the program's runners (kStepKernelMaxDof = 3) builds a
 # whole kernel, and agrees with the step kernel of its one-dof part: with K_z constant and no z in
 # the forces, each (q_i, p_i) takes the same operations as a one-dof K's, bit for bit.

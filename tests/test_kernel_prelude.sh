@@ -22,6 +22,8 @@ K = "p^2/2 + (q^2 - a^2)^2/2 - gamma*z"
 a = 1.0
 gamma = 0.1
 [integrator]
+method = "dop853"  # a whole kernel (a fixed-step method's map would build a step kernel)
+rtol = 1e-8
 h = 0.01
 t_end = 0.1
 [grid]
@@ -45,7 +47,7 @@ check "the prelude's text was not read (the .gch stands for it)" \
   '! grep -q "^\. .*/kernel_build/kernel_prelude\.hpp$" tree.txt'
 # A run without a basin map builds a step kernel (engine/step_kernel.hpp), against the smaller
 # prelude of the step loop alone.
-sed -e 's/^basin = .*/# none/' k.toml >step.toml
+sed -e 's/^basin = .*/# none/' -e 's/^method = .*/method = "rk4"/' -e '/^rtol/d' k.toml >step.toml
 : >tree.txt
 CONTACTSWEEP_CXX=$work/cxx CONTACTSWEEP_CACHE=$work/cache OMP_NUM_THREADS=1 \
   "$bin" run step.toml -o step.h5 --quiet 2>stderr

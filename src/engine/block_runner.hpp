@@ -281,8 +281,12 @@ class BlockRunner {
   // once every lane of a run to t_end has settled, the pass is the bookkeeping alone.
   void screen() {
     ++chunks_;
-    if (mappers_.flagging()) screen_for_scene<true>();
-    else screen_for_scene<false>();
+    if (mappers_.flagging()) {
+      mappers_.prepare_flags(main_);
+      screen_for_scene<true>();
+    } else {
+      screen_for_scene<false>();
+    }
     mappers_.screen(main_, attention_);
     if constexpr (kFormulas) formulas_.screen(attention_);
   }

@@ -13,11 +13,13 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <concepts>
 
 #include "engine/lane_tile.hpp"
 #include "engine/step_kernel.hpp"
 #include "numerics/lane_state.hpp"
+#include "physics/energy_wells.hpp"
 #include "physics/scene_concept.hpp"
 
 namespace cs {
@@ -89,6 +91,37 @@ struct ProxyScene {
     return step_kernel().defined_at(&x, c.v);
   }
   static double log_lambda(const LaneState<D>& x) { return step_kernel().log_lambda(&x); }
+
+  // The energy trap (engine/mappers/energy_trap.hpp) is compiled for every proxy, and serves
+  // where the kernel was built with it (a basin map that uses it); its uses of K are the
+  // kernel's (energy_wells.hpp's trap_ functions). The table's address names the K, for the
+  // wells the trap keeps per process.
+  static constexpr bool may_have_energy_trap = true;
+  static bool run_time_energy_trap() { return step_kernel().trap.used; }
+  static const void* identity() { return &step_kernel(); }
+  template <class Tile>
+  static void tile_energy(const Tile& t, const Params<double>* uniform, double* energy) {
+    step_kernel().trap.tile_energy(&t.q[0][0], &t.p[0][0], &t.param_field[0][0],
+                                   uniform != nullptr ? uniform->v : nullptr, energy);
+  }
+  static double trap_potential(const double* q, const Params<double>& c) {
+    return step_kernel().trap.potential(q, c.v);
+  }
+  static BasinBox<D> confining_box(const Params<double>& c, const BasinBox<D>& positions,
+                                   const std::array<double, D>& widen, double e0, double h) {
+    BasinBox<D> box;
+    step_kernel().trap.box(c.v, &positions, widen.data(), e0, h, &box);
+    return box;
+  }
+  static Wells<D> find_wells(const Params<double>& c, const BasinBox<D>& box, double h) {
+    Wells<D> wells;
+    step_kernel().trap.wells(c.v, &box, h, &wells);
+    return wells;
+  }
+  static bool well_bottom(const Params<double>& c, const BasinBox<D>& box, double h,
+                          const double* q, const Wells<D>& wells, std::array<double, D>& minimum) {
+    return step_kernel().trap.well_bottom(c.v, &box, h, q, &wells, minimum.data());
+  }
 };
 
 template <class S>

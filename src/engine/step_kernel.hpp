@@ -23,7 +23,7 @@
 
 namespace cs {
 
-inline constexpr std::uint32_t kStepKernelAbi = 3;
+inline constexpr std::uint32_t kStepKernelAbi = 4;
 inline constexpr const char* kStepKernelEntry = "contactsweep_step_kernel";
 struct StepKernel;
 // The table of the named method, or null where the kernel has none (an adaptive method).
@@ -35,6 +35,26 @@ inline constexpr int kStepKernelWidth = 64;
 inline constexpr int kStepKernelParamFields = 16;
 inline constexpr int kStepKernelCoefFields = 32;
 inline constexpr int kStepKernelMaxDof = 3;
+
+// The energy trap's uses of K (physics/energy_wells.hpp; engine/mappers/energy_trap.hpp), in a
+// kernel built for a basin map that uses the trap (K = Σp²/2 + V(q) + k·z without t); else
+// `used` is false and the entries null. The wells' search is most of such a kernel's compile
+// (0.4 of 0.8 s): a K's other runs build a kernel without it. E = K(q, p, 0) of a tile's W lanes
+// for its screen, from its q, p and parameter fields (field-major, W lanes each), or with
+// uniform_params where not null; V(q); the box and the wells of a parameter set (a
+// BasinBox<dof> and a Wells<dof> of the program's, filled here); the minimum of the well
+// holding q.
+struct StepKernelTrap {
+  bool used = false;
+  void (*tile_energy)(const double* q, const double* p, const double* param_fields,
+                      const double* uniform_params, double* energy) = nullptr;
+  double (*potential)(const double* q, const double* params) = nullptr;
+  void (*box)(const double* params, const void* positions, const double* widen, double e0,
+              double h, void* box) = nullptr;
+  void (*wells)(const double* params, const void* box, double h, void* wells) = nullptr;
+  bool (*well_bottom)(const double* params, const void* box, double h, const double* q,
+                      const void* wells, double* minimum) = nullptr;
+};
 
 // Parameters and coefficients travel as kStepKernelParamFields and kStepKernelCoefFields
 // doubles, of which the scene's and the method's own are the first; lane states as
@@ -60,6 +80,7 @@ struct StepKernel {
   double (*log_lambda)(const void* lane_state);
   bool (*diverged)(const double* q, const double* p);
   void (*natural_frequencies)(const double* params, double* omega);
+  StepKernelTrap trap;
 };
 
 }  // namespace cs

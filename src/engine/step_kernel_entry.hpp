@@ -4,6 +4,9 @@
 // a whole kernel's runner would have inlined: the same bits.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <string_view>
 
@@ -13,6 +16,7 @@
 #include "engine/step_kernel.hpp"
 #include "numerics/lane_state.hpp"
 #include "numerics/method_list.hpp"
+#include "physics/energy_wells.hpp"
 #include "physics/partials.hpp"
 
 namespace cs {
@@ -43,8 +47,71 @@ struct StepKernelScene {
   }
 };
 
+// The energy trap's entries (step_kernel.hpp's StepKernelTrap), for a K that has one: E as the
+// runner's screen computes it in a whole kernel (EnergyTrap::flag), lane by lane over the tile;
+// the wells with the scene's own code.
+template <Scene S>
+struct StepKernelTrapOf : StepKernelScene<S> {
+  using StepKernelScene<S>::D, StepKernelScene<S>::params;
+  using Params = ParamsOf<S, double>;
+  using Box = BasinBox<D>;
+  static void tile_energy(const double* q, const double* p, const double* fields,
+                          const double* uniform, double* energy) {
+    constexpr int W = kStepKernelWidth;
+    if (uniform != nullptr) {
+      const Params c = params(uniform);
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        double x[D], y[D];
+        for (int d = 0; d < D; ++d) x[d] = q[d * W + i], y[d] = p[d * W + i];
+        energy[i] = cs::K<S>(x, y, 0.0, c, 0.0);
+      }
+    } else {
+      constexpr int n = static_cast<int>(sizeof(Params) / sizeof(double));
+#pragma GCC ivdep
+      for (int i = 0; i < W; ++i) {
+        double x[D], y[D], v[n];
+        for (int d = 0; d < D; ++d) x[d] = q[d * W + i], y[d] = p[d * W + i];
+        for (int j = 0; j < n; ++j) v[j] = fields[j * W + i];
+        energy[i] = cs::K<S>(x, y, 0.0, params(v), 0.0);
+      }
+    }
+  }
+  static double trap_potential(const double* q, const double* c) {
+    return cs::trap_potential<S>(q, params(c));
+  }
+  static void trap_box(const double* c, const void* positions, const double* widen, double e0,
+                       double h, void* box) {
+    std::array<double, D> w;
+    std::copy_n(widen, D, w.begin());
+    *static_cast<Box*>(box) = cs::trap_box<S>(params(c), *static_cast<const Box*>(positions), w, e0, h);
+  }
+  static void trap_wells(const double* c, const void* box, double h, void* wells) {
+    *static_cast<Wells<D>*>(wells) = cs::trap_wells<S>(params(c), *static_cast<const Box*>(box), h);
+  }
+  static bool well_bottom(const double* c, const void* box, double h, const double* q,
+                          const void* wells, double* minimum) {
+    std::array<double, D> m;
+    if (!cs::well_bottom<S>(params(c), *static_cast<const Box*>(box), h, q,
+                            *static_cast<const Wells<D>*>(wells), m))
+      return false;
+    std::copy_n(m.begin(), D, minimum);
+    return true;
+  }
+
+  static constexpr StepKernelTrap table{true, &tile_energy, &trap_potential, &trap_box, &trap_wells,
+                                        &well_bottom};
+};
+
+// The trap's entries where the kernel is built with them (Trap) and K has one; else none.
+template <Scene S, bool Trap>
+constexpr StepKernelTrap step_kernel_trap() {
+  if constexpr (Trap && has_energy_trap<S>()) return StepKernelTrapOf<S>::table;
+  else return StepKernelTrap{};
+}
+
 // The table of one method: its step loop, a lane's start and coefficients; the scene's functions.
-template <Scene S, class Method, Carry carry, bool Uniform>
+template <Scene S, class Method, Carry carry, bool Uniform, bool Trap>
 struct StepKernelOf : StepKernelScene<S> {
   using SceneParts = StepKernelScene<S>;
   using SceneParts::D, SceneParts::params, SceneParts::state;
@@ -83,19 +150,20 @@ struct StepKernelOf : StepKernelScene<S> {
                                     S::kz_constant, time_dependent<S>(),
                                     &advance, &start, &coefficients, &breaks_down,
                                     &SceneParts::defined_at, &SceneParts::K, &SceneParts::log_lambda,
-                                    &SceneParts::diverged, &SceneParts::natural_frequencies};
+                                    &SceneParts::diverged, &SceneParts::natural_frequencies,
+                                    step_kernel_trap<S, Trap>()};
 };
 
 // The table of the fixed-step method named `method` for scene S (StepKernelEntry): every one
 // whose coefficients fit the tile is compiled, so a second method of the same K needs no compile.
-template <Scene S, Carry carry, bool Uniform>
+template <Scene S, Carry carry, bool Uniform, bool Trap>
 const StepKernel* step_kernel_of(const char* method) {
   const StepKernel* table = nullptr;
   Methods::with_named(std::string_view(method), [&]<class Method>() {
     constexpr bool fits = sizeof(typename Method::template Coef<double>) <=
                           kStepKernelCoefFields * sizeof(double);
     if constexpr (!adaptive_method<Method>() && fits)
-      table = &StepKernelOf<S, Method, carry, Uniform>::table;
+      table = &StepKernelOf<S, Method, carry, Uniform, Trap>::table;
   });
   return table;
 }

@@ -35,19 +35,10 @@ int coefficient_count(const std::string& method) {
   return count;
 }
 
-// Whether the plan's basin map uses the energy trap: its exact_trap, where K has one
-// (has_energy_trap: K = Σp²/2 + V(q) + k·z, no t). The trap searches K's wells, which a step
-// kernel does not hold; the proxy scene has no trap, so such a map must not come here.
-bool uses_energy_trap(const RunPlan& plan) {
-  if (plan.map.basin < 0 || !mappers_of(plan).trap) return false;
-  const KTraits& k = plan.spec.custom->formula.traits;
-  return k.z_part == ZPart::linear && !k.time_dependent;
-}
-
 // The runner reads nothing of the carried state but the tangent (none here): the kernel's step
 // loop carries what the plan asks, so one runner per count of degrees of freedom, parameter
-// layout and whether it maps basins. A basin map's runner holds every mapper but the trap
-// (the proxy scene has none: MapperSet compiles it only where the scene has one).
+// layout and whether it maps basins. A basin map's runner holds every mapper, the trap with its
+// uses of K in the kernel (engine/proxy_scene.hpp).
 template <int D, bool Uniform, bool Basins>
 void run_proxy(const RunPlan& plan, BlockResults& results) {
   constexpr MapperChoice mappers = Basins ? kEveryMapper : MapperChoice{false, false, false, false};
@@ -67,10 +58,16 @@ void run_proxy(const RunPlan& plan, BlockResults& results) {
 
 }  // namespace
 
+bool uses_energy_trap(const RunPlan& plan) {
+  if (plan.map.basin < 0 || !mappers_of(plan).trap || !plan.spec.custom) return false;
+  const KTraits& k = plan.spec.custom->formula.traits;
+  return k.z_part == ZPart::linear && !k.time_dependent;
+}
+
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
   for (const RunPlan* plan : plans) {
     if (!plan->spec.custom || plan->method.adaptive || plan->carry.tangent ||
-        has_measure_formulas(plan->spec.measures) || uses_energy_trap(*plan) ||
+        has_measure_formulas(plan->spec.measures) ||
         plan->scene.dof > kStepKernelMaxDof ||
         plan->scene.parameters.size() > static_cast<std::size_t>(kStepKernelParamFields) ||
         coefficient_count(plan->spec.method) > kStepKernelCoefFields)
@@ -85,7 +82,8 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
       kernel.param_fields < static_cast<int>(plan.scene.parameters.size()) ||
       kernel.param_fields > kStepKernelParamFields ||
       kernel.coef_fields != coefficient_count(plan.spec.method) ||
-      kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof))
+      kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof) ||
+      kernel.trap.used != uses_energy_trap(plan))
     throw std::logic_error("the step kernel of scene.K does not match this program's runner");
 }
 

@@ -11,10 +11,15 @@
 namespace cs {
 
 // Whether the runs of `plans` (a run's step-size slices) need nothing of a K beyond a step
-// kernel: a fixed-step method, no basin map that uses the energy trap (it searches K's wells),
-// no measures as formulas, no lyapunov tangent, at most kStepKernelMaxDof degrees of freedom
-// and the tile's room for the parameters and the method's coefficients.
+// kernel: a fixed-step method, no measures as formulas, no lyapunov tangent, at most
+// kStepKernelMaxDof degrees of freedom and the tile's room for the parameters and the method's
+// coefficients.
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans);
+
+// Whether the plan's basin map uses the energy trap: its exact_trap, where K has one
+// (K = Σp²/2 + V(q) + k·z, no t). Its step kernel is then built with the trap's entries
+// (StepKernelTrap), which a K's other runs do without.
+bool uses_energy_trap(const RunPlan& plan);
 
 // Throws std::logic_error when `kernel` is not the table this program's runner expects for `plan`.
 void check_step_kernel(const StepKernel& kernel, const RunPlan& plan);

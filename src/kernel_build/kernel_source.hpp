@@ -53,9 +53,10 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 
 // A step kernel's complete source text (entry point kStepKernelEntry, engine/step_kernel.hpp):
 // the step loop and per-lane functions the program's runner calls (runs_on_step_kernel), for
-// every fixed-step method: the text, and so the kernel's key, names no method.
+// every fixed-step method: the text, and so the kernel's key, names no method. With the energy
+// trap's entries for a basin map that uses it (StepKernelTrap).
 std::string step_kernel_source(const std::string& scene_header, const std::string& scene_struct,
-                               Carry carry, bool uniform_parameters);
+                               Carry carry, bool uniform_parameters, bool energy_trap);
 
 // The orbit kernel's complete source text (entry point kOrbitEntry).
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

@@ -368,7 +368,7 @@ const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, 
   void* entry = kernel_with_orbit(
       plan, scene,
       step_kernel_source(scene.header, scene.struct_name, plan.carry,
-                         plan.grid.uniform_parameters()),
+                         plan.grid.uniform_parameters(), uses_energy_trap(plan)),
       kStepKernelEntry, "scene.K", options, comm);
   const StepKernel* kernel = reinterpret_cast<StepKernelEntry>(entry)(plan.spec.method.c_str());
   if (kernel == nullptr)

@@ -31,12 +31,23 @@
 
 namespace cs {
 
+// Whether the trap's code is compiled for S. A scene that stands for another at run time (a step
+// kernel's proxy, engine/proxy_scene.hpp) compiles it, and answers energy_trap_at_run_time.
 template <Scene S>
 constexpr bool has_energy_trap() {
-  if constexpr (requires { S::z_part; })
+  if constexpr (requires { S::may_have_energy_trap; })
+    return S::may_have_energy_trap;
+  else if constexpr (requires { S::z_part; })
     return S::z_part == ZPart::linear && !time_dependent<S>();
   else
     return false;
+}
+
+// Whether S's K has an energy trap: known at compile time, but for a proxy scene.
+template <Scene S>
+bool energy_trap_at_run_time() {
+  if constexpr (requires { S::run_time_energy_trap(); }) return S::run_time_energy_trap();
+  else return has_energy_trap<S>();
 }
 
 // Where the map's positions lie: each q's range over the grid, widened by half its width (at
@@ -473,6 +484,36 @@ BasinBox<S::dof> confining_box(const ParamsOf<S, double>& c, const BasinBox<S::d
     if (WellFinder<S>(c, box, h).boundary_minimum() > e0) return box;
   }
   return first;
+}
+
+// The trap's uses of K (engine/mappers/energy_trap.hpp): the box and the wells for one parameter
+// set, the minimum at the bottom of the well holding q (WellFinder::bottom), and V(q). A proxy
+// scene answers them through its step kernel's table, which computes them with the scene's code.
+template <Scene S>
+BasinBox<S::dof> trap_box(const ParamsOf<S, double>& c, const BasinBox<S::dof>& positions,
+                          const std::array<double, S::dof>& widen, double e0, double h) {
+  if constexpr (requires { S::confining_box(c, positions, widen, e0, h); })
+    return S::confining_box(c, positions, widen, e0, h);
+  else
+    return confining_box<S>(c, positions, widen, e0, h);
+}
+template <Scene S>
+Wells<S::dof> trap_wells(const ParamsOf<S, double>& c, const BasinBox<S::dof>& box, double h) {
+  if constexpr (requires { S::find_wells(c, box, h); }) return S::find_wells(c, box, h);
+  else return find_wells<S>(c, box, h);
+}
+template <Scene S>
+bool well_bottom(const ParamsOf<S, double>& c, const BasinBox<S::dof>& box, double h,
+                 const double* q, const Wells<S::dof>& wells, std::array<double, S::dof>& minimum) {
+  if constexpr (requires { S::well_bottom(c, box, h, q, wells, minimum); })
+    return S::well_bottom(c, box, h, q, wells, minimum);
+  else
+    return WellFinder<S>(c, box, h).bottom(q, wells, minimum);
+}
+template <Scene S>
+double trap_potential(const double* q, const ParamsOf<S, double>& c) {
+  if constexpr (requires { S::trap_potential(q, c); }) return S::trap_potential(q, c);
+  else return potential<S>(q, c, 0.0);
 }
 
 }  // namespace cs

@@ -32,11 +32,14 @@ class EnergyTrap {
   static constexpr int N = 2 * D;
   static constexpr std::int64_t kMostCombinations = kEnergyTrapMostCombinations;
   using Params = ParamsOf<S, double>;
+  // A proxy scene (engine/proxy_scene.hpp) answers for a K its step kernel holds: E over a whole
+  // tile (tile_energy), the wells (energy_wells.hpp's trap_ functions) and its identity.
+  static constexpr bool kProxy = requires { S::identity(); };
 
  public:
   // Cold, as wells_for(): once per run (BlockRunner::load says why).
   [[gnu::cold]] EnergyTrap(const RunPlan& plan, bool active, LaneClock clock, const Params& uniform)
-      : active_(active && has_energy_trap<S>()),
+      : active_(active && energy_trap_at_run_time<S>()),
         clock_(clock),
         tolerance_(plan.attractors.tolerance),
         uniform_params_(uniform) {
@@ -86,7 +89,7 @@ class EnergyTrap {
         if (!(x.q[d] >= wells.box.lo[d] && x.q[d] <= wells.box.hi[d])) return;
       if (!(K<S>(x.q, x.p, 0.0, c, 0.0) < wells.trap_energy)) return;
       std::array<double, D> bottom;
-      if (!WellFinder<S>(c, wells.box, clock_.h).bottom(x.q, wells, bottom)) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
+      if (!well_bottom<S>(c, wells.box, clock_.h, x.q, wells, bottom)) {  // a well missed at set-up: the lane is another mapper's now (take_lost)
         lost_ = true;
         disarm(slot);
         return;
@@ -130,6 +133,14 @@ class EnergyTrap {
   // Main lanes whose level some E can fall below (flag() can raise theirs).
   int armed_lanes() const { return armed_lanes_; }
 
+  // Before a screen that calls flag(): a proxy scene's E for the whole tile, in one call to its
+  // step kernel, which evaluates K over the lanes as the loop below does (a call per lane in
+  // the screen loop stopped it vectorising: the double well's map ran 2x slower).
+  template <class Tile>
+  void prepare_flags(const Tile& t) {
+    if constexpr (kProxy) S::tile_energy(t, Uniform ? &uniform_params_ : nullptr, screen_energy_);
+  }
+
   // E = K(q, p, 0) below the lane's trap level, inside the box; branch-free, one lane of the
   // runner's own screen loop (a lane flag: basin_mapper.hpp), so that the tile is read once.
   template <class Tile>
@@ -144,8 +155,12 @@ class EnergyTrap {
         else inside &= (q[d] >= box_lo_[d][i]) & (q[d] <= box_hi_[d][i]);
       }
       double energy;
-      if constexpr (Uniform) energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
-      else energy = K<S>(q, p, 0.0, t.params(i), 0.0);
+      if constexpr (kProxy)
+        energy = screen_energy_[i];  // prepare_flags
+      else if constexpr (Uniform)
+        energy = K<S>(q, p, 0.0, uniform_params_, 0.0);
+      else
+        energy = K<S>(q, p, 0.0, t.params(i), 0.0);
       return inside & (energy < well_energy_[i]);
     }
   }
@@ -202,7 +217,7 @@ class EnergyTrap {
       double q[D];
       for (int d = 0; d < D; ++d) q[d] = q_values_[d][index[d]];
       double v = INFINITY;
-      if constexpr (has_energy_trap<S>()) v = potential<S>(q, c, 0.0);
+      if constexpr (has_energy_trap<S>()) v = trap_potential<S>(q, c);
       if (!(v <= potential_max)) potential_max = std::isnan(v) ? INFINITY : v;
       int d = 0;
       while (d < D && ++index[d] == q_values_[d].size()) index[d++] = 0;
@@ -252,6 +267,7 @@ class EnergyTrap {
       Values q_values[D];  // null when q_unbounded
       double h;
       Wells<D> wells;
+      const void* scene;  // scene_identity
     };
     auto same = [](const Values& a, std::span<const double> b) {
       return a && a->size() == b.size() && std::memcmp(a->data(), b.data(), b.size() * sizeof(double)) == 0;
@@ -260,7 +276,8 @@ class EnergyTrap {
     static std::deque<Known> known;
     std::lock_guard lock(mutex);
     for (const Known& k : known) {
-      bool hit = std::memcmp(&k.params, &c, sizeof c) == 0 && k.positions.lo == positions_.lo &&
+      bool hit = k.scene == scene_identity() && std::memcmp(&k.params, &c, sizeof c) == 0 &&
+                 k.positions.lo == positions_.lo &&
                  k.positions.hi == positions_.hi && k.widen == widen_ && k.h == clock_.h &&
                  std::memcmp(&k.kinetic, &kinetic_, sizeof kinetic_) == 0 &&
                  k.q_unbounded == q_unbounded_;
@@ -268,8 +285,9 @@ class EnergyTrap {
       if (hit) return k.wells;
     }
     const double e0 = largest_initial_energy(c);
-    const BasinBox<D> box = confining_box<S>(c, positions_, widen_, e0, clock_.h);
-    Known k{c, positions_, widen_, kinetic_, q_unbounded_, {}, clock_.h, find_wells<S>(c, box, clock_.h)};
+    const BasinBox<D> box = trap_box<S>(c, positions_, widen_, e0, clock_.h);
+    Known k{c,  positions_, widen_, kinetic_, q_unbounded_, {}, clock_.h,
+            trap_wells<S>(c, box, clock_.h), scene_identity()};
     for (int d = 0; d < D && !q_unbounded_; ++d) {
       for (const Known& other : known)
         if (same(other.q_values[d], q_values_[d])) {
@@ -280,6 +298,13 @@ class EnergyTrap {
         k.q_values[d] = std::make_shared<const std::vector<double>>(q_values_[d].begin(), q_values_[d].end());
     }
     return known.emplace_back(std::move(k)).wells;
+  }
+
+  // Which K the wells are of: a proxy scene stands for every K of a step kernel, loaded for the
+  // process's life (so a table's address names its K); a compiled scene for its own alone.
+  static const void* scene_identity() {
+    if constexpr (kProxy) return S::identity();
+    else return nullptr;
   }
 
   bool active_;
@@ -301,6 +326,8 @@ class EnergyTrap {
   const Wells<D>* uniform_wells_ = nullptr;  // Uniform: the one parameter set's
   BasinBox<D> uniform_box_{};                // … and their box, read by the screen
   alignas(64) double well_energy_[W];    // the lane's trap level (−∞: none; set_level)
+  // A proxy scene's E of each lane, for the screen (prepare_flags); else unused.
+  alignas(64) double screen_energy_[kProxy ? W : 1];
   int armed_lanes_ = 0;                  // … how many are above −∞
   alignas(64) double box_lo_[Uniform ? 1 : D][W];  // the lane's wells' box (not Uniform)
   alignas(64) double box_hi_[Uniform ? 1 : D][W];

@@ -117,6 +117,13 @@ class MapperSet {
     return false;
   }
 
+  // Before the screen loop that calls flag(): what a mapper computes for the whole tile at once.
+  template <class Tile>
+  void prepare_flags(const Tile& t) {
+    if constexpr (kTrap)
+      if (trap_.active()) trap_.prepare_flags(t);
+  }
+
   // The lane flags of the mappers that screen with one (inside the runner's screen loop)…
   template <class Tile>
   [[gnu::always_inline]] LookInt flag(const Tile& t, int i) const {
@@ -168,7 +175,7 @@ class MapperSet {
     MapperChoice u = mappers_of(plan);
     if (!covers(M, u))
       throw std::logic_error("the kernel was compiled without a basin mapper this run uses");
-    u.trap = u.trap && has_energy_trap<S>();  // else the trap would not activate (EnergyTrap)
+    u.trap = u.trap && energy_trap_at_run_time<S>();  // else the trap would not activate (EnergyTrap)
     return u;
   }
 
