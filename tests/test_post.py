@@ -12,6 +12,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import tomllib
 from pathlib import Path
 
 import h5py
@@ -172,7 +173,73 @@ def test_plots():
         assert "log 2 criterion" in r.stdout, r.stdout
 
 
+def test_planted_links():
+    """Outputs in a shared directory: a link planted at an output's name is replaced, never
+    written through, and a directory there is refused by name."""
+    import safe_output
+    import work_precision_adaptive
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        indir, outdir = tmp / "in", tmp / "figures"
+        indir.mkdir()
+        outdir.mkdir()
+        make_paper_files(indir)
+        make_map_files(indir)
+        victim = tmp / "victim.txt"
+        victim.write_text("someone else's file\n")
+        planted = {outdir / "fig1.png": victim, outdir / "basins_double_well.png": victim,
+                   outdir / "fig2.png": tmp / "created_through_link"}  # a dangling one too
+        for link, target in planted.items():
+            link.symlink_to(target)
+        assert run("plot_paper_figures.py", indir, outdir).returncode == 0
+        assert run("plot_maps.py", indir, outdir).returncode == 0
+        # The spec the work-precision charts hand the program, through its own code path.
+        spec = tmp / "wp.toml"
+        spec.write_text('title = "wp"\n[initial]\nq = 1.0\n[grid.h]\nvalues = [0.1, 0.2]\n')
+        toml = outdir / "adaptive_wp.toml"
+        toml.symlink_to(victim)
+        planted[toml] = victim
+        assert work_precision_adaptive.without_h_axis(spec, outdir) == toml
+        assert tomllib.loads(toml.read_text())["grid"] == {"q_0": {"values": [1.0]}}, toml.read_text()
+
+        assert victim.read_bytes() == b"someone else's file\n", victim.read_bytes()[:20]
+        assert not (tmp / "created_through_link").exists()
+        for link in planted:
+            assert not link.is_symlink() and link.is_file(), link
+            if link.suffix == ".png":
+                check_png(link)
+        mode = os.umask(0o022)
+        os.umask(mode)
+        assert (outdir / "fig1.png").stat().st_mode & 0o777 == 0o644 & ~mode
+        assert not list(outdir.glob(".*")), list(outdir.glob(".*"))  # no temporary file left
+
+        # A directory at an output's name: refused, named, left as it was.
+        (outdir / "fig3.png").unlink()
+        (outdir / "fig3.png").mkdir()
+        r = run("plot_paper_figures.py", indir, outdir)
+        assert r.returncode == 1 and f"cannot write {outdir / 'fig3.png'}: it is a directory" in r.stderr, r
+        assert (outdir / "fig3.png").is_dir() and not list((outdir / "fig3.png").iterdir())
+        try:
+            safe_output.write_text(outdir / "fig3.png", "text")
+            raise AssertionError("a directory was written over")
+        except SystemExit as e:
+            assert str(e) == f"cannot write {outdir / 'fig3.png'}: it is a directory", e
+
+        # A writer that fails leaves no temporary file and the old output as it was.
+        def fail(f):
+            f.write("partial")
+            raise ValueError("writer failed")
+        try:
+            safe_output.write_output(toml, fail, text=True)
+            raise AssertionError("the writer's error was swallowed")
+        except ValueError:
+            pass
+        assert tomllib.loads(toml.read_text())["grid"] == {"q_0": {"values": [1.0]}}, toml.read_text()
+        assert not list(outdir.glob(".*")), list(outdir.glob(".*"))
+
+
 if __name__ == "__main__":
     test_basin_entropy()
     test_plots()
+    test_planted_links()
     print("test_post: all passed")

@@ -22,6 +22,7 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 
 from plot_maps import centers_extent  # noqa: E402  (lives next to this script)
+from safe_output import save_figure  # noqa: E402
 
 UNDECIDED = "0.15"
 
@@ -93,7 +94,7 @@ def single_map(f, path):
     legend(ax, f, colour)
     ax.set_title(statistics_line(f), fontsize=9)
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
 
 
@@ -121,7 +122,7 @@ def continuation(f, path):
            title="continuation over " + pname)
     cx.legend(fontsize=8)
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
 
 

@@ -21,6 +21,7 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap, LogNorm  # noqa: E402
 
 from plot_maps import centers_extent  # noqa: E402  (lives next to this script)
+from safe_output import save_figure  # noqa: E402
 
 
 def text(f, name):
@@ -68,7 +69,7 @@ def main():
             bx.set(xlabel=xname, ylabel=yname, title="escape time (grey: trapped)")
             fig.suptitle(text(f, "title"), fontsize=10)
             path = out / (Path(name).stem + ".png")
-            fig.savefig(path, dpi=100)
+            save_figure(fig, path, dpi=100)
             plt.close(fig)
             escaped = np.isfinite(stop).mean()
             print(f"{path}: escaped {escaped:.4f}; " + ", ".join(

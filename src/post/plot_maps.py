@@ -24,6 +24,7 @@ from matplotlib.colors import LogNorm, Normalize, to_rgb  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from basin_entropy import basin_entropy  # noqa: E402  (lives next to this script)
+from safe_output import save_figure  # noqa: E402
 
 STATUS_NAMES = {1: "diverged", 2: "integrator breakdown", 3: "non-finite output",
                 4: "K undefined at the initial state"}
@@ -141,7 +142,7 @@ def label_of(coord):
 def save(fig, path):
     if fig.get_layout_engine() is None:
         fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)
     print(f"wrote {path}")
 

@@ -19,6 +19,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from safe_output import save_figure  # noqa: E402  (lives next to this script)
+
 GREEK = {"gamma": "γ", "omega": "ω", "omega1_sq": "ω₁²", "omega2_sq": "ω₂²", "g": "g", "a": "a"}
 
 
@@ -95,7 +97,7 @@ def fig3(ds, out):
 
 def save(fig, path):
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)
     print(f"wrote {path}")
 

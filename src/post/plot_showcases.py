@@ -29,6 +29,7 @@ from matplotlib.colors import ListedColormap  # noqa: E402
 
 from plot_basins import axis_names, text  # noqa: E402  (both live next to this script)
 from plot_maps import centers_extent  # noqa: E402
+from safe_output import save_figure  # noqa: E402
 
 VDP_PERIOD = 6.6632868593231301   # van der Pol at mu = 1 (period of the limit cycle)
 VDP_AMPLITUDE = 2.0086198608      # its max |q1|
@@ -90,7 +91,7 @@ def van_der_pol(f, path):
                  f"{VDP_AMPLITUDE:.6f}), λ₁ = {lam:+.1e}")
     bx.title.set_fontsize(9)
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return (f"period {period:.10f} vs {VDP_PERIOD:.10f} (error {period - VDP_PERIOD:+.2e}), "
             f"max|q1| {amplitude:.6f} vs {VDP_AMPLITUDE:.6f}, lambda_1 {lam:+.2e}; "
@@ -143,7 +144,7 @@ def forced_autonomous(auto, strobe, path):
         ax.title.set_fontsize(9)
     fig.suptitle("Forced double-well Duffing: its stroboscopic map and the same system written "
                  "autonomously, labelled by well", fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return (f"agree on {agree.sum()} of {agree.size} cells ({100 * fraction:.2f} %); autonomous: "
             + "; ".join(describe(auto)) + " | stroboscopic: " + "; ".join(describe(strobe)))
@@ -169,7 +170,7 @@ def forced_chaos(f, path):
     bx.title.set_fontsize(9)
     bx.legend(fontsize=8)
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return "; ".join(describe(f)) + f"; undecided {f.attrs['undecided_fraction']:.4f}"
 
@@ -190,7 +191,7 @@ def lorenz(f, path):
                  f"(literature {LORENZ_LAMBDA}: {100 * (lam / LORENZ_LAMBDA - 1):+.1f} %)")
     bx.title.set_fontsize(9)
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return (f"lambda_1 = {lam:.4f} vs {LORENZ_LAMBDA} ({lam - LORENZ_LAMBDA:+.4f}, "
             f"{100 * (lam / LORENZ_LAMBDA - 1):+.2f} %); " + "; ".join(describe(f)))
@@ -208,7 +209,7 @@ def orbit_diagram(f, path, kept=100):
     ax.set(xlabel=pname, ylabel="q at t = 2πk/Ω",
            title=f"last {kept} of {q.shape[-1]} stroboscopic samples of {samples.shape[1]} starts per {pname}")
     fig.suptitle(text(f, "title"), fontsize=10)
-    fig.savefig(path, dpi=130)
+    save_figure(fig, path, dpi=130)
     plt.close(fig)
     return f"{len(values)} values of {pname}, {samples.shape[1]} starts each, {kept} samples kept"
 

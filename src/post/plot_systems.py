@@ -22,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from plot_maps import centers_extent  # noqa: E402  (lives next to this script)
+from safe_output import save_figure  # noqa: E402
 
 
 def attr(f, name):
@@ -57,7 +58,7 @@ def forced_duffing(f, path):
     bx.set(xlabel="q", ylabel="p", title=f"final states at t = {attr(f, 't_end'):g} (stroboscopic)")
     bx.legend(loc="best", fontsize=8)
     fig.suptitle("Forced damped Duffing: " + attr(f, "K"), fontsize=9)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     share = ", ".join(f"({a:.3f}, {b:.3f}): {c / q.size:.1%}" for (a, b), c in zip(points, counts))
     print(f"forced_duffing: {len(points)} section points: {share}")
 
@@ -79,7 +80,7 @@ def spin_orbit(f, path):
     ax.set(xlabel="initial spin rate p₀", ylabel=f"spin rate p at t = {attr(f, 't_end'):.0f}",
            title=f"Spin–orbit with tidal dissipation (e = {e}): capture into resonances")
     ax.legend(loc="upper left", fontsize=8)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     near = lambda x: float(np.mean(np.abs(p - x) < 0.02))  # noqa: E731
     print(f"spin_orbit: in 1:1 {near(1.0):.1%}, in 3:2 {near(1.5):.1%}, "
           f"elsewhere {1 - near(1.0) - near(1.5):.1%} (nu(e) = {nu:.4f})")
@@ -103,7 +104,7 @@ def kepler_perturbed(f, path):
            title=f"Kepler energy, pumped and damped by α sin(θt)\n"
                  f"ln λ = α(1 − cos θt)/θ to {error:.1e}")
     fig.suptitle("Time-perturbed Kepler problem: " + attr(f, "K"), fontsize=9)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     print(f"kepler_perturbed: ln lambda error {error:.2e}, H from {f['traj_H'][...].reshape(-1)[0]:.6f} "
           f"to {f['traj_H'][...].reshape(-1)[-1]:.6f}")
 
@@ -120,7 +121,7 @@ def lane_emden(f, path):
     ax.legend(fontsize=8)
     bx.semilogy(t[1:], error[1:])
     bx.set(xlabel="t", ylabel="|θ − exact|", title=f"error (largest {error.max():.1e})")
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     print(f"lane_emden_5: largest error {error.max():.2e}")
 
 

@@ -37,6 +37,8 @@ import xarray as xr  # noqa: E402
 from matplotlib.colors import ListedColormap, to_rgb  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
+from safe_output import save_figure  # noqa: E402  (lives next to this script)
+
 ROOT = Path(__file__).resolve().parents[2]
 SWEEPS = ROOT / "sweeps"
 
@@ -129,7 +131,7 @@ def edges(x):
 def save(fig, path, legend_rows=0):
     """legend_rows: rows of a figure legend at the bottom to leave room for."""
     fig.tight_layout(rect=(0, 0.025 + 0.03 * legend_rows, 1, 1))
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)
     print(f"wrote {path}")
 

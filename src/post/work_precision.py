@@ -56,6 +56,7 @@ from stability_maps import (METHOD_STYLE, load, method_set, methods_table, run, 
 
 import matplotlib.pyplot as plt  # noqa: E402  (stability_maps selected the Agg backend)
 import work_precision_adaptive as adaptive  # noqa: E402  (dop853's series, over rtol)
+from safe_output import write_output  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SWEEPS = ROOT / "sweeps"
@@ -494,8 +495,8 @@ def main():
                                              "magnetic_pendulum")
     chart_basins(res["basins_magnetic_pendulum"], args.out)
     res["runtime_s"] = time.perf_counter() - start
-    with open(args.out / "work_precision.json", "w") as f:
-        json.dump(res, f, indent=1, default=float, allow_nan=True)
+    write_output(args.out / "work_precision.json",
+                 lambda f: json.dump(res, f, indent=1, default=float, allow_nan=True), text=True)
     print(f"\nwork_precision: {res['runtime_s']:.1f} s")
     return 0
 

@@ -21,6 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from safe_output import write_text  # lives next to this script
+
 # The Python module's spec writer (a dict shaped like a spec, as TOML), read from its file: the
 # package itself needs the built extension.
 _TOML = Path(__file__).resolve().parents[1] / "python" / "contactsweep" / "_toml.py"
@@ -53,7 +55,7 @@ def without_h_axis(spec_path, out):
     if not grid:
         grid["q_0"] = {"values": [spec["initial"]["q"]]}
     path = Path(out) / f"adaptive_{Path(spec_path).stem}.toml"
-    path.write_text(dumps(spec))
+    write_text(path, dumps(spec))
     return path
 
 
