@@ -210,7 +210,7 @@ def test_planted_links():
                 check_png(link)
         mode = os.umask(0o022)
         os.umask(mode)
-        assert (outdir / "fig1.png").stat().st_mode & 0o777 == 0o644 & ~mode
+        assert (outdir / "fig1.png").stat().st_mode & 0o777 == 0o666 & ~mode  # as a file created by name
         assert not list(outdir.glob(".*")), list(outdir.glob(".*"))  # no temporary file left
 
         # A directory at an output's name: refused, named, left as it was.

@@ -30,9 +30,8 @@ def write_output(path, write, text=False):
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
         with os.fdopen(fd, "w" if text else "wb") as f:
             write(f)
-            # As a new file would be, but never writable by group or others whatever the umask:
-            # the directory may be shared.
-            os.fchmod(f.fileno(), 0o644 & ~_umask())
+            # As a file created by name would be (mkstemp made it 0600): the umask decides.
+            os.fchmod(f.fileno(), 0o666 & ~_umask())
         os.replace(tmp, path)  # rename(2): the name is replaced, a link at it is not followed
     except BaseException as e:
         if tmp is not None:
