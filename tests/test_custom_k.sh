@@ -111,68 +111,55 @@ step_sources() { grep -l contactsweep_step_kernel $(find "$CONTACTSWEEP_CACHE" -
 whole_sources() { grep -L contactsweep_step_kernel $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l; }
 check "runs without a basin map built step kernels only ($(step_sources) of them)" \
   test "$(whole_sources)" = 0 -a "$(step_sources)" -ge 5
-# A basin map that does not use the energy trap (exact_trap = false here; a time-dependent K has
-# none) runs on a step kernel too, with the mappers in the program: the double well's map as K
+# Basin maps run on a step kernel too, with the mappers in the program; a map that uses the
+# energy trap builds the kernel with the trap's uses of K (its screen's E over a tile, the
+# wells, a well's bottom: engine/step_kernel.hpp's StepKernelTrap). The double well's map as K
 # equals the built-in's bit for bit in every dataset but the attractors' description (a K's
-# comes from its orbit kernel, a built-in's fixed points from the linearised flow).
-sed -e 's|^final_state = true|basin = { exact_trap = false }|' builtin.toml >b_basin.toml
-sed -e 's|^final_state = true|basin = { exact_trap = false }|' as_k.toml >k_basin.toml
-sed -i 's/^method = .*/method = "rk4"/' b_basin.toml k_basin.toml
-steps_before=$(step_sources)
-if run b_basin.toml -o b_basin.h5 2>"$work/stderr" && run k_basin.toml -o k_basin.h5 2>"$work/stderr"; then
-  check "a basin map without the trap, K on a step kernel, equals the built-in bit for bit" py "
+# comes from its orbit kernel, a built-in's fixed points from the linearised flow) and its
+# labels' names (the built-in names its wells by the sign of q, a K numbers them): `basin` is
+# the same partition, 0 (undecided) kept. same_map BUILTIN K VERDICT (the energy_trap attribute)
+# CLASSES (how many the partition has: with t_end = 10, only the trap settles lanes)
+same_map() {
+  py "
 import h5py, numpy as np
-a, b = h5py.File('b_basin.h5'), h5py.File('k_basin.h5')
-assert set(a) == set(b), (sorted(a), sorted(b))
-compared = 0
-for v in a:
-    if v.startswith('attractor_'):
-        continue
-    x, y = a[v][...], b[v][...]
-    assert x.dtype == y.dtype and x.shape == y.shape, v
-    if x.dtype.kind == 'f':
-        x, y = x.view(np.uint64), y.view(np.uint64)
-    assert np.array_equal(x, y), v
-    compared += 1
-assert 'basin' in a and compared >= 4, sorted(a)
-"
-  check "the basin map without the trap built a step kernel" test "$(step_sources)" = $((steps_before + 1))
-else bad "basin map without the trap runs"; fi
-# With the energy trap too: the step kernel is built with the trap's uses of K (its screen's E
-# over a tile, the wells, a well's bottom: engine/step_kernel.hpp's StepKernelTrap), the trap
-# itself runs in the program, and the map is the built-in's bit for bit.
-sed -e 's|^final_state = true|basin = {}|' builtin.toml >b_trap.toml
-sed -e 's|^final_state = true|basin = {}|' as_k.toml >k_trap.toml
-sed -i 's/^method = .*/method = "rk4"/' b_trap.toml k_trap.toml
-steps_before=$(step_sources)
-if run b_trap.toml -o b_trap.h5 2>"$work/stderr" && run k_trap.toml -o k_trap.h5 2>"$work/stderr"; then
-  check "a basin map with the energy trap, K on a step kernel, equals the built-in bit for bit" py "
-import h5py, numpy as np
-a, b = h5py.File('b_trap.h5'), h5py.File('k_trap.h5')
-assert a.attrs['energy_trap'] == b.attrs['energy_trap'] == 'used', (a.attrs['energy_trap'], b.attrs['energy_trap'])
+a, b = h5py.File('$1'), h5py.File('$2')
+assert a.attrs['energy_trap'] == b.attrs['energy_trap'] == '$3', (a.attrs['energy_trap'], b.attrs['energy_trap'])
 assert set(a) == set(b), (sorted(a), sorted(b))
 compared = 0
 for v in a:
     if v.startswith('attractor'):
         continue
     x, y = a[v][...], b[v][...]
-    if v == 'basin':  # the built-in names its wells by the sign of q (-1, 1), a K numbers them
-        pairs = set(zip(x.ravel().tolist(), y.ravel().tolist()))
-        assert len(pairs) == len({u for u, _ in pairs}) == len({w for _, w in pairs}) == 3, pairs
-        assert (0, 0) in pairs, pairs
-        compared += 1
-        continue
     assert x.dtype == y.dtype and x.shape == y.shape, v
-    if x.dtype.kind == 'f':
-        x, y = x.view(np.uint64), y.view(np.uint64)
-    assert np.array_equal(x, y), v
+    if v == 'basin':
+        pairs = set(zip(x.ravel().tolist(), y.ravel().tolist()))
+        assert len(pairs) == len({u for u, _ in pairs}) == len({w for _, w in pairs}) == $4, pairs
+        assert (0, 0) in pairs, pairs
+    else:
+        if x.dtype.kind == 'f':
+            x, y = x.view(np.uint64), y.view(np.uint64)
+        assert np.array_equal(x, y), v
     compared += 1
-assert 'basin' in a and 'trap_verdict' not in a and compared >= 4, sorted(a)
+assert 'basin' in a and compared >= 4, sorted(a)
 "
-  check "the basin map with the trap built a step kernel with the trap's entries" \
-    test "$(step_sources)" = $((steps_before + 1)) -a \
-    "$(grep -l 'contactsweep_step_kernel' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | xargs grep -l 'true>(method)' | wc -l)" = 1
-else bad "basin map with the trap runs"; fi
+}
+trap_sources() { grep -l 'true>(method)' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l; }
+for with_trap in 0 1; do
+  options=("exact_trap = false" "")
+  verdicts=("not used: measures.basin.exact_trap = false" "used")
+  verdict=${verdicts[with_trap]}
+  sed -e "s|^final_state = true|basin = { ${options[with_trap]} }|" builtin.toml >b_map.toml
+  sed -e "s|^final_state = true|basin = { ${options[with_trap]} }|" as_k.toml >k_map.toml
+  sed -i 's/^method = .*/method = "rk4"/' b_map.toml k_map.toml
+  steps_before=$(step_sources) traps_before=$(trap_sources)
+  if run b_map.toml -o "b_map$with_trap.h5" 2>"$work/stderr" &&
+     run k_map.toml -o "k_map$with_trap.h5" 2>"$work/stderr"; then
+    check "a basin map (energy trap: $verdict), K on a step kernel, equals the built-in bit for bit" \
+      same_map "b_map$with_trap.h5" "k_map$with_trap.h5" "$verdict" $((1 + 2 * with_trap))
+    check "the basin map (energy trap: $verdict) built a step kernel, $with_trap with the trap's entries" \
+      test "$(step_sources)" = $((steps_before + 1)) -a "$(trap_sources)" = $((traps_before + with_trap))
+  else bad "basin map (energy trap: $verdict) runs"; fi
+done
 # A K of more degrees of freedom than the program's runners (kStepKernelMaxDof = 3) builds a
 # whole kernel, and agrees with the step kernel of its one-dof part: with K_z constant and no z in
 # the forces, each (q_i, p_i) takes the same operations as a one-dof K's, bit for bit.
