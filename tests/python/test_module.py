@@ -40,6 +40,28 @@ def test_text_spec_without_output_equals_the_cli_and_leaves_nothing(tmp_path, pr
     assert list(private_tmpdir.iterdir()) == []  # the private directory and its file are gone
 
 
+def test_runs_from_several_threads_take_turns(tmp_path):
+    """run() from four threads at once: each file is the CLI's. In a child process, so that a
+    crash (HDF5 is not thread-safe; without the module's lock the interpreter died) fails this
+    test alone."""
+    (tmp_path / "map.toml").write_text(SMALL_MAP)
+    assert cli_run(tmp_path / "map.toml", tmp_path / "cli.h5").returncode == 0
+    code = f"""
+import threading, contactsweep
+def one(k):
+    contactsweep.run({str(tmp_path / "map.toml")!r}, threads=1, progress=False,
+                     output={str(tmp_path)!r} + f"/thread{{k}}.h5")
+threads = [threading.Thread(target=one, args=(k,)) for k in range(4)]
+for t in threads: t.start()
+for t in threads: t.join()
+"""
+    child = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           stdin=subprocess.DEVNULL, timeout=120)
+    assert child.returncode == 0, child.stderr[-2000:]
+    for k in range(4):
+        assert_dataset_is_file(contactsweep._load(tmp_path / f"thread{k}.h5"), tmp_path / "cli.h5")
+
+
 def test_without_tmpdir_the_scratch_is_dev_shm_and_is_removed(tmp_path, monkeypatch):
     for name in ("TMPDIR", "TEMP", "TMP"):
         monkeypatch.delenv(name, raising=False)

@@ -11,11 +11,22 @@ scenes` and `contactsweep methods` list.
 import os
 import shutil
 import tempfile
+import threading
 
 from . import _core, _progress, _toml
 
 __all__ = ["run", "scenes", "methods", "__version__"]
 __version__ = _core.__version__
+
+# One run at a time in a process: the HDF5 library (Debian's, with MPI) is not thread-safe, and a
+# run sets the process's OpenMP thread count. run() called from several threads at once crashed
+# the interpreter; each call now waits for the one before it.
+_one_run = threading.Lock()
+
+
+def _run_core(*args):
+    with _one_run:
+        _core.run(*args)
 
 
 def scenes():
@@ -100,7 +111,7 @@ def run(spec, set=None, threads=None, output=None, *, progress=True):
     try:
         if output is not None:
             path = os.fspath(output)
-            _core.run(name, text, overrides, path, int(threads or 0), tick, history)
+            _run_core(name, text, overrides, path, int(threads or 0), tick, history)
             return _load(path)
         roots = _scratch_roots()
         for root in roots:
@@ -108,7 +119,7 @@ def run(spec, set=None, threads=None, output=None, *, progress=True):
             directory = tempfile.mkdtemp(prefix="contactsweep-", dir=root)
             try:
                 path = os.path.join(directory, "run.h5")
-                _core.run(name, text, overrides, path, int(threads or 0), tick, history)
+                _run_core(name, text, overrides, path, int(threads or 0), tick, history)
                 return _load(path)
             except ValueError as error:
                 # Refused for this directory alone (no room in /dev/shm): before any work.
