@@ -9,9 +9,10 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
   mappers' code (the energy trap and its wells, the recurrences, the stroboscopic cycles; the
   anchor test is inlined whole, so it leaves no name to look for). The basin columns of a runner
   with only its plan's mappers against one with all: test_kernel_parts.cpp.
-* The same K with a basin map to t_end (no early stop): the energy trap is compiled in; its
-  final states are the same bits as the run without the map, which had no mapper at all, and
-  as the same map in 2 x 1 ranks x threads.
+* The same K with a basin map to t_end (no early stop): a step kernel with the trap's uses of K
+  (the wells' search: WellFinder), the energy trap itself and the other mappers in the
+  program's runner; its final states are the same bits as the run without the map, which had
+  no mapper at all, and as the same map in 2 x 1 ranks x threads.
 * A forced K on its stroboscopic map without recurrences: the energy trap is asked for
   (exact_trap's default), but a K that reads t has none, so the run builds a step kernel and
   the program's runner holds the stroboscopic cycles: no kernel names a mapper.
@@ -37,8 +38,8 @@ check = runs.check
 
 MAPPERS = ("EnergyTrap<", "WellFinder<", "Recurrences<", "StroboscopicCycles<")
 DENSE = "Dop853Dense<"  # dop853's continuous extension (numerics/dop853_dense.hpp)
-# A step kernel's entry (engine/step_kernel.hpp): a K's run whose mappers, if any, are all the
-# program's (no energy trap) builds one, and the program's runner holds the mappers.
+# A step kernel's entry (engine/step_kernel.hpp): a K's run with a fixed-step method builds
+# one, and the program's runner holds the mappers (the energy trap's uses of K in the kernel).
 STEP_ENTRY = "contactsweep_step_kernel"
 
 
@@ -95,10 +96,11 @@ plain, found = run_in_fresh_cache(WELL + "trajectory = { every = 100 }\n", "well
 check("K without a basin map: one kernel, no mapper compiled in",
       len(found) == 1 and found[next(iter(found))] == set(), f"{found}")
 
-mapped, found = run_in_fresh_cache(WELL + "basin = { early_stop = false }\n", "well_k_map")
-runner = [m for m in found.values() if "EnergyTrap<" in m]
-check("K's basin map: its runner's kernel has the energy trap and its wells",
-      len(runner) == 1 and {"EnergyTrap<", "WellFinder<"} <= runner[0], f"{found}")
+mapped, found = run_in_fresh_cache(WELL + "basin = { early_stop = false }\n", "well_k_map",
+                                   parts=MAPPERS + (STEP_ENTRY,))
+check("K's basin map: a step kernel with the wells' search, the energy trap and the other "
+      "mappers in the program (its orbit kernel beside, no mapper)",
+      sorted(found.values(), key=len) == [set(), {STEP_ENTRY, "WellFinder<"}], f"{found}")
 if plain and mapped:
     same_final_state("K's final states: the same bits with the basin map's mappers and without",
                      plain, mapped)
