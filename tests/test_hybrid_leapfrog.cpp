@@ -37,8 +37,38 @@ LaneState<S::dof> lane(std::initializer_list<double> q, std::initializer_list<do
   return x;
 }
 
-// One step of scene B (state-dependent K_z, z feeds back) written out from the paper's
-// sequential procedure (sec. 3.1) with λ itself, not ln λ.
+// One step of one degree of freedom written out from the paper's sequential procedure (sec. 3.1)
+// with λ itself, not ln λ, each line at the time the method's header gives it: t_n for the
+// first half step and the predictors, t_n + h/2 for the midpoint rates, t_n + h for the end
+// forces. Kq(q, t), Kp(p), Kz(z) and zrate(q, p, z, t) = K − pK_p.
+struct OneDofState {
+  double q, p, z, lambda;
+};
+template <class Kq, class Kp, class Kz, class ZRate>
+OneDofState papers_step(OneDofState x0, double h, double t0, Kq&& kq, Kp&& kp, Kz&& kz,
+                        ZRate&& zrate) {
+  const auto [q0, p0, z0, lambda0] = x0;
+  const double lambda_h = lambda0 * (1 - h / 2 * kz(z0));
+  const double p_h = (lambda0 / lambda_h) * (p0 - h / 2 * kq(q0, t0));
+  const double z_h = z0 + h / 2 * zrate(q0, p0, z0, t0);  // appended predictors
+  const double q_h = q0 + h / 2 * kp(p0);
+  const double z1 = z0 + h * zrate(q_h, p_h, z_h, t0 + h / 2);
+  const double q1 = q0 + h * kp(p_h);
+  const double lambda1 = lambda_h / (1 + h / 2 * kz(z1));
+  const double p1 = (lambda_h / lambda1) * p_h - h / 2 * kq(q1, t0 + h);
+  return {q1, p1, z1, lambda1};
+}
+
+// The method's step x (ln λ as the lane reads it) against the procedure's: the same formulas
+// with a few products associated otherwise, so a few ulps.
+void expect_papers_step(const LaneState<1>& x, double log_lambda, const OneDofState& expected) {
+  EXPECT_NEAR(x.q[0], expected.q, 1e-15);
+  EXPECT_NEAR(x.p[0], expected.p, 1e-15);
+  EXPECT_NEAR(x.z, expected.z, 1e-15);
+  EXPECT_NEAR(log_lambda, std::log(expected.lambda), 1e-15);
+}
+
+// One step of scene B (state-dependent K_z, z feeds back) against the paper's procedure.
 TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   const double omega = 1.1, gamma = 0.2, h = 0.05;
   const double q0 = 0.7, p0 = -0.4, z0 = 0.9, lambda0 = 1.3;
@@ -48,30 +78,20 @@ TEST(HybridLeapfrog, OneStepEqualsThePapersFormulas) {
   auto zrate = [&](double q, double p, double z) {
     return 0.5 * (omega * omega * q * q - p * p) - gamma * z * z;  // K − pK_p
   };
-  double lambda_h = lambda0 * (1 - h / 2 * Kz(z0));
-  double p_h = (lambda0 / lambda_h) * (p0 - h / 2 * Kq(q0));
-  double z_h = z0 + h / 2 * zrate(q0, p0, z0);  // appended predictors
-  double q_h = q0 + h / 2 * Kp(p0);
-  double z1 = z0 + h * zrate(q_h, p_h, z_h);
-  double q1 = q0 + h * Kp(p_h);
-  double lambda1 = lambda_h / (1 + h / 2 * Kz(z1));
-  double p1 = (lambda_h / lambda1) * p_h - h / 2 * Kq(q1);
+  const OneDofState expected = papers_step(
+      {q0, p0, z0, lambda0}, h, 0.0, [&](double q, double) { return Kq(q); }, Kp, Kz,
+      [&](double q, double p, double z, double) { return zrate(q, p, z); });
 
   ParamsOf<Z2Damping, double> c{omega, gamma};
   auto x = lane<Z2Damping>({q0}, {p0}, z0, lambda0, c);
   auto k = HybridLeapfrog::coefficients<Z2Damping>(h, c, x);
   HybridLeapfrog::step<Z2Damping, kAll>(x, c, k);
-  // Same formulas, different association of a few products: a few ulps.
-  EXPECT_NEAR(x.q[0], q1, 1e-15);
-  EXPECT_NEAR(x.p[0], p1, 1e-15);
-  EXPECT_NEAR(x.z, z1, 1e-15);
-  EXPECT_NEAR(log_lambda<Z2Damping>(x), std::log(lambda1), 1e-15);
+  expect_papers_step(x, log_lambda<Z2Damping>(x), expected);
   EXPECT_EQ(x.broken, 0.0);
 }
 
-// One step of a time-dependent K (the forced oscillator, K = p²/2 + ω²q²/2 − F q cos Ωt − γz),
-// from the same formulas with the times the method's header gives each line: t_n for the first
-// half step and the predictors, t_n + h/2 for the midpoint rates, t_n + h for the end forces.
+// One step of a time-dependent K (the forced oscillator, K = p²/2 + ω²q²/2 − F q cos Ωt − γz)
+// against the same procedure, whose lines read t at their own times.
 // The order tests with time-dependent K (test_methods.cpp) measure q, p and ln λ only; here z,
 // whose rate reads t at the midpoint, is checked too.
 TEST(HybridLeapfrog, OneStepOfATimeDependentKTakesEachLineAtItsTime) {
@@ -82,15 +102,9 @@ TEST(HybridLeapfrog, OneStepOfATimeDependentKTakesEachLineAtItsTime) {
   auto zrate = [&](double q, double p, double z, double t) {  // K − pK_p
     return -0.5 * p * p + 0.5 * omega * omega * q * q - F * q * std::cos(Omega * t) - gamma * z;
   };
-  const double Kz = -gamma;
-  double lambda_h = lambda0 * (1 - h / 2 * Kz);
-  double p_h = (lambda0 / lambda_h) * (p0 - h / 2 * Kq(q0, t0));
-  double z_h = z0 + h / 2 * zrate(q0, p0, z0, t0);
-  double q_h = q0 + h / 2 * p0;
-  double z1 = z0 + h * zrate(q_h, p_h, z_h, t0 + h / 2);
-  double q1 = q0 + h * p_h;
-  double lambda1 = lambda_h / (1 + h / 2 * Kz);
-  double p1 = (lambda_h / lambda1) * p_h - h / 2 * Kq(q1, t0 + h);
+  const OneDofState expected = papers_step(
+      {q0, p0, z0, lambda0}, h, t0, Kq, [](double p) { return p; },
+      [&](double) { return -gamma; }, zrate);
 
   const ParamsOf<S, double> c{omega, gamma, F, Omega};
   LaneState<1> x{};
@@ -98,12 +112,8 @@ TEST(HybridLeapfrog, OneStepOfATimeDependentKTakesEachLineAtItsTime) {
   HybridLeapfrog::start<S>(x, c);
   auto k = HybridLeapfrog::coefficients<S>(h, c, x);
   HybridLeapfrog::step<S, kAll>(x, c, k);
-  // Same formulas, different association of a few products: a few ulps. A line at the wrong
-  // time moves its result by about h·F·Ω·(h/2) ~ 1e-3.
-  EXPECT_NEAR(x.q[0], q1, 1e-15);
-  EXPECT_NEAR(x.p[0], p1, 1e-15);
-  EXPECT_NEAR(x.z, z1, 1e-15);
-  EXPECT_NEAR(log_lambda<S>(x), std::log(lambda1), 1e-15);
+  // A line at the wrong time moves its result by about h·F·Ω·(h/2) ~ 1e-3.
+  expect_papers_step(x, log_lambda<S>(x), expected);
 }
 
 // The decision of docs/methods.md ("Floating-point contraction"): each update x + h·f, p − h/2·K_q is rounded once.

@@ -49,6 +49,18 @@ std::vector<std::uint64_t> bits(const std::vector<double>& v) {
   return b;
 }
 
+// The undecided lanes' reasons, counted as a run counts them once the attractor table has
+// relabelled the block's lanes `labels` (the provisional ones being the block's `basin` now).
+std::vector<std::int64_t> undecided_counts(const RunPlan& plan, BlockResults& block,
+                                           const std::vector<double>& labels) {
+  auto& basin = block.columns[static_cast<std::size_t>(plan.map.basin)];
+  const std::vector<double> provisional = basin;
+  basin = labels;
+  std::int64_t counts[kUndecidedReasons] = {};
+  count_undecided(plan, block, provisional, counts);
+  return {counts, counts + kUndecidedReasons};
+}
+
 TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) {
   const RunSpec spec = parse_run_spec(kSpec, {"grid.q_0.n=2", "grid.p_0.n=3"}, "test spec");
   const auto plan = plan_of(spec);
@@ -88,11 +100,7 @@ TEST(LaneRecords, HandBuiltBlockKeepsOneEntryPerDistinctRecordAndCountsReasons) 
   EXPECT_EQ(recurrence_record_of(*plan, block, 3)[1], 4.0);
   EXPECT_TRUE(std::isnan(recurrence_record_of(*plan, block, 1)[0]));
   // Labelled: lanes 1 and 3 on no attractor (label 0) count as "settled on none" (reason 0).
-  const std::vector<double> before = at(plan->map.basin);
-  at(plan->map.basin) = {0.0, 0.0, 1.0, 0.0, 1.0, 0.0};
-  std::int64_t counts[kUndecidedReasons] = {};
-  count_undecided(*plan, block, before, counts);
-  EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
+  EXPECT_EQ(undecided_counts(*plan, block, {0.0, 0.0, 1.0, 0.0, 1.0, 0.0}),
             (std::vector<std::int64_t>{2, 1, 0, 1, 0, 0, 0}));
 }
 
@@ -125,11 +133,7 @@ TEST(LaneRecords, FixedPointLaneOnTheLastSettlementHasNoEntry) {
   EXPECT_EQ(recurrence_record_of(*plan, block, 0)[1], 3.0);
   const double* fixed = recurrence_record_of(*plan, block, 1);
   for (int k = 0; k < RecurrenceSearch::kRecordWidth; ++k) EXPECT_TRUE(std::isnan(fixed[k])) << k;
-  const std::vector<double> before = at(plan->map.basin);
-  at(plan->map.basin) = {1.0, 0.0, 0.0};
-  std::int64_t counts[kUndecidedReasons] = {};
-  count_undecided(*plan, block, before, counts);
-  EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
+  EXPECT_EQ(undecided_counts(*plan, block, {1.0, 0.0, 0.0}),
             (std::vector<std::int64_t>{1, 1, 0, 0, 0, 0, 0}));
 }
 
@@ -203,9 +207,7 @@ TEST(LaneRecords, BlockWhoseEntriesWouldCostMoreKeepsItsPerPointRecords) {
   const ExpandedBasin provisional(*plan, block);
   EXPECT_EQ(at(plan->map.basin), (std::vector<double>{1.0, 1.0, 1.0, 1.0, 1.0, 0.0}));
   EXPECT_EQ(recurrence_record_of(*plan, block, 3)[1], 6.0);
-  std::int64_t counts[kUndecidedReasons] = {};
-  count_undecided(*plan, block, at(plan->map.basin), counts);
-  EXPECT_EQ((std::vector<std::int64_t>(counts, counts + kUndecidedReasons)),
+  EXPECT_EQ(undecided_counts(*plan, block, at(plan->map.basin)),
             (std::vector<std::int64_t>{0, 0, 1, 0, 0, 0, 0}));
 }
 

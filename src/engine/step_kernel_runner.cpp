@@ -59,9 +59,8 @@ void run_proxy(const RunPlan& plan, BlockResults& results) {
 }  // namespace
 
 bool uses_energy_trap(const RunPlan& plan) {
-  if (plan.map.basin < 0 || !mappers_of(plan).trap || !plan.spec.custom) return false;
-  const KTraits& k = plan.spec.custom->formula.traits;
-  return k.z_part == ZPart::linear && !k.time_dependent;
+  return plan.map.basin >= 0 && mappers_of(plan).trap && plan.spec.custom &&
+         plan.spec.custom->formula.traits.energy_trap_form();
 }
 
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {

@@ -48,6 +48,10 @@ struct KTraits {
   // K = Σ p_i²/2 + V(q, t) + c(t)·z (linear; c may be 0: K without z) or + c(t)·z² (quadratic),
   // V free of p and z, c free of q, p, z; nullopt otherwise (c(t)·z + d(t)·z² included).
   std::optional<ZPart> z_part;
+
+  // K = Σp²/2 + V(q) + k·z without t: the energy trap's form (physics/energy_wells.hpp's
+  // has_energy_trap, for a scene compiled from K).
+  bool energy_trap_form() const { return z_part == ZPart::linear && !time_dependent; }
 };
 
 struct KFormula {

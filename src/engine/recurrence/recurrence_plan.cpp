@@ -34,10 +34,7 @@ bool builtin_fixed_points_only(const std::string& name, SceneList<Scenes...>) {
 }
 
 bool fixed_points_only(const RunSpec& spec, const SceneInfo& scene) {
-  if (spec.custom) {
-    const KTraits& traits = spec.custom->formula.traits;
-    return traits.z_part == ZPart::linear && !traits.time_dependent;
-  }
+  if (spec.custom) return spec.custom->formula.traits.energy_trap_form();
   return builtin_fixed_points_only(scene.name, BuiltinScenes{});
 }
 
