@@ -18,6 +18,9 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
   the program's runner holds the stroboscopic cycles: no kernel names a mapper.
 * The built-in double well with lyapunov and no basin map (a kernel built at run time): no
   mapper either, and its final states are the built-in kernel's (every mapper, none active).
+* The built-in double well with observe (read at its trajectory's samples and its end): a step
+  kernel, whose final states are the built-in kernel's and whose observables are the bits of a
+  whole kernel's (the same run with a stop that never holds).
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
   a trajectory it is, and the final states are the same bits (samples never change the steps).
 """
@@ -145,6 +148,28 @@ check("built-in double well with lyapunov: its kernel has no mapper",
 if builtin and tangent:
     same_final_state("built-in double well: the same final states with lyapunov's kernel",
                      builtin, tangent)
+
+# Measures as formulas read where the runner samples: a step kernel holds them (for a built-in
+# scene too); the stop's condition, read after every step, a whole kernel.
+OBSERVE = 'trajectory = { every = 100 }\nobserve = { E = "p^2/2 + (q^2 - a*a)^2/2", L = "lambda*z" }\n'
+observed, found = run_in_fresh_cache(BUILTIN + OBSERVE, "well_builtin_observe",
+                                     parts=MAPPERS + (STEP_ENTRY,))
+check("built-in double well with observe at its samples: a step kernel, no mapper",
+      list(found.values()) == [{STEP_ENTRY}], f"{found}")
+stopped, found = run_in_fresh_cache(BUILTIN + OBSERVE + 'stop = { when = "q > 1e300" }\n',
+                                    "well_builtin_observe_stop", parts=MAPPERS + (STEP_ENTRY,))
+check("the same with a stop: a whole kernel, no mapper",
+      list(found.values()) == [set()], f"{found}")
+if builtin and observed and stopped:
+    ours, theirs = final_state(observed), final_state(builtin)
+    check("built-in double well: the same final states on its step kernel",
+          bool(theirs) and all(np.array_equal(ours[k], v, equal_nan=True)
+                               for k, v in theirs.items()), f"{sorted(theirs)}")
+    with h5py.File(observed, "r") as a, h5py.File(stopped, "r") as b:
+        names = ("final_E", "final_L", "traj_E", "traj_L")
+        check("observables on the step kernel: the bits of the whole kernel's",
+              all(np.array_equal(a[n][...], b[n][...], equal_nan=True) for n in names),
+              f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")
 
 DOP853 = WELL.replace('method = "hybrid_leapfrog"', 'method = "dop853"\nrtol = 1e-9')
 final_only, found = run_in_fresh_cache(DOP853, "well_k_dop853", parts=MAPPERS + (DENSE,))

@@ -352,7 +352,7 @@ class BlockRunner {
       Book& b = main_book_[i];
       if (!attention_[i] || b.point < 0) continue;
       b.n = steps_done(i);
-      if constexpr (kFormulas) {
+      if constexpr (Formulas::stop) {
         if (formulas_.hit(i)) {  // the stop's condition held after a step of this chunk
           stop_lane(i, main_, i, b, plan_.chunk);
           clear(main_, main_book_, i);
@@ -407,7 +407,7 @@ class BlockRunner {
     advance_tile(fin_, remainder_);
     for (int j = 0; j < fin_count_; ++j) {
       Book& b = fin_book_[j];
-      if constexpr (kFormulas) {
+      if constexpr (Formulas::stop) {
         if (formulas_.hit(W + j)) {
           stop_lane(W + j, fin_, j, b, remainder_);
           clear(fin_, fin_book_, j);

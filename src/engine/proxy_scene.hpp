@@ -17,6 +17,7 @@
 #include <concepts>
 
 #include "engine/lane_tile.hpp"
+#include "engine/measures/observable_view.hpp"
 #include "engine/step_kernel.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/energy_wells.hpp"
@@ -148,6 +149,26 @@ struct ProxyMethod {
   static void start(LaneState<S::dof>& x, const C& c) {
     step_kernel().start(&x, c.v);
   }
+};
+
+// The run's measures as formulas where the kernel holds them (StepKernelFormulas): the runner's
+// formula tracker (engine/measures/observables.hpp) with room for kStepKernelMaxObservables, the
+// kernel's own count at run time (run_time_observables); λ where the formulas read it.
+struct ProxyFormulas {
+  static constexpr bool is_proxy = true;
+  static constexpr int observables = kStepKernelMaxObservables;
+  static constexpr bool stop = false;
+  static constexpr bool reads_lambda = true;
+  static int run_time_observables() { return step_kernel().formulas.observables; }
+  static bool run_time_reads_lambda() { return step_kernel().formulas.reads_lambda; }
+  template <int D, class C>
+  static void observe(const ObservableView<D>& x, const C& c, double* v) {
+    step_kernel().formulas.observe(x.q, x.p, x.z, x.t, x.lambda, c.v, v);
+  }
+  template <class X, class C>
+  static bool stops(const X&, const C&) { return false; }
+  template <class X, class C>
+  static double exit(const X&, const C&) { return 0.0; }
 };
 
 // The step loop: the kernel's, chosen over lane_tile.hpp's as the more constrained template.

@@ -23,7 +23,7 @@
 
 namespace cs {
 
-inline constexpr std::uint32_t kStepKernelAbi = 4;
+inline constexpr std::uint32_t kStepKernelAbi = 5;
 inline constexpr const char* kStepKernelEntry = "contactsweep_step_kernel";
 struct StepKernel;
 // The table of the named method, or null where the kernel has none (an adaptive method).
@@ -35,6 +35,9 @@ inline constexpr int kStepKernelWidth = 64;
 inline constexpr int kStepKernelParamFields = 16;
 inline constexpr int kStepKernelCoefFields = 32;
 inline constexpr int kStepKernelMaxDof = 3;
+// The runner's room for a run's observables (measures as formulas); a run with more gets a
+// whole kernel.
+inline constexpr int kStepKernelMaxObservables = 16;
 
 // The energy trap's uses of K (physics/energy_wells.hpp; engine/mappers/energy_trap.hpp), in a
 // kernel built for a basin map that uses the trap (K = Σp²/2 + V(q) + k·z without t); else
@@ -54,6 +57,20 @@ struct StepKernelTrap {
   void (*wells)(const double* params, const void* box, double h, void* wells) = nullptr;
   bool (*well_bottom)(const double* params, const void* box, double h, const double* q,
                       const void* wells, double* minimum) = nullptr;
+};
+
+// The run's measures as formulas ([measures] observe; engine/measures/observables.hpp), in a
+// kernel built for a run that has them; else `observables` is 0 and the entry null. The kernel's
+// source holds the generated formulas, so its key is the formulas' too. Evaluated one lane at a
+// time, where the runner samples (a trajectory's samples, the lane's end): a run whose formulas
+// are evaluated after every step (stop, observe_window without trajectory) gets a whole kernel.
+// values[k] is observable k in the spec's order; λ is exp(ln λ), computed by the runner where
+// reads_lambda.
+struct StepKernelFormulas {
+  int observables = 0;
+  bool reads_lambda = false;
+  void (*observe)(const double* q, const double* p, double z, double t, double lambda,
+                  const double* params, double* values) = nullptr;
 };
 
 // Parameters and coefficients travel as kStepKernelParamFields and kStepKernelCoefFields
@@ -81,6 +98,7 @@ struct StepKernel {
   bool (*diverged)(const double* q, const double* p);
   void (*natural_frequencies)(const double* params, double* omega);
   StepKernelTrap trap;
+  StepKernelFormulas formulas;
 };
 
 }  // namespace cs

@@ -12,6 +12,7 @@
 
 #include "engine/lane_health.hpp"
 #include "engine/lane_tile.hpp"
+#include "engine/measures/observable_view.hpp"
 #include "engine/proxy_scene.hpp"
 #include "engine/step_kernel.hpp"
 #include "numerics/lane_state.hpp"
@@ -110,8 +111,24 @@ constexpr StepKernelTrap step_kernel_trap() {
   else return StepKernelTrap{};
 }
 
+// The run's measures as formulas (step_kernel.hpp's StepKernelFormulas), where the kernel is
+// built with them (M, the generated struct); else none.
+template <Scene S, class M>
+struct StepKernelFormulasOf {
+  static constexpr int D = S::dof;
+  static_assert(M::observables <= kStepKernelMaxObservables && !M::stop);
+  static void observe(const double* q, const double* p, double z, double t, double lambda,
+                      const double* c, double* values) {
+    M::observe(ObservableView<D>{q, p, z, t, lambda}, StepKernelScene<S>::params(c), values);
+  }
+  static constexpr StepKernelFormulas table() {
+    if constexpr (M::observables > 0) return {M::observables, M::reads_lambda, &observe};
+    else return {};
+  }
+};
+
 // The table of one method: its step loop, a lane's start and coefficients; the scene's functions.
-template <Scene S, class Method, Carry carry, bool Uniform, bool Trap>
+template <Scene S, class Method, Carry carry, bool Uniform, bool Trap, class M>
 struct StepKernelOf : StepKernelScene<S> {
   using SceneParts = StepKernelScene<S>;
   using SceneParts::D, SceneParts::params, SceneParts::state;
@@ -151,19 +168,20 @@ struct StepKernelOf : StepKernelScene<S> {
                                     &advance, &start, &coefficients, &breaks_down,
                                     &SceneParts::defined_at, &SceneParts::K, &SceneParts::log_lambda,
                                     &SceneParts::diverged, &SceneParts::natural_frequencies,
-                                    step_kernel_trap<S, Trap>()};
+                                    step_kernel_trap<S, Trap>(),
+                                    StepKernelFormulasOf<S, M>::table()};
 };
 
 // The table of the fixed-step method named `method` for scene S (StepKernelEntry): every one
 // whose coefficients fit the tile is compiled, so a second method of the same K needs no compile.
-template <Scene S, Carry carry, bool Uniform, bool Trap>
+template <Scene S, Carry carry, bool Uniform, bool Trap, class M = NoMeasureFormulas>
 const StepKernel* step_kernel_of(const char* method) {
   const StepKernel* table = nullptr;
   Methods::with_named(std::string_view(method), [&]<class Method>() {
     constexpr bool fits = sizeof(typename Method::template Coef<double>) <=
                           kStepKernelCoefFields * sizeof(double);
     if constexpr (!adaptive_method<Method>() && fits)
-      table = &StepKernelOf<S, Method, carry, Uniform, Trap>::table;
+      table = &StepKernelOf<S, Method, carry, Uniform, Trap, M>::table;
   });
   return table;
 }

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "engine/block_runner.hpp"
 #include "engine/mappers/mapper_choice.hpp"
@@ -37,23 +38,39 @@ int coefficient_count(const std::string& method) {
 
 // The runner reads nothing of the carried state but the tangent (none here): the kernel's step
 // loop carries what the plan asks, so one runner per count of degrees of freedom, parameter
-// layout and whether it maps basins. A basin map's runner holds every mapper, the trap with its
-// uses of K in the kernel (engine/proxy_scene.hpp).
-template <int D, bool Uniform, bool Basins>
+// layout, whether it maps basins and whether it has measures as formulas. A basin map's runner
+// holds every mapper, the trap with its uses of K in the kernel (engine/proxy_scene.hpp); a
+// runner with formulas, the tracker whose values the kernel computes (ProxyFormulas).
+template <int D, bool Uniform, bool Basins, bool Formulas>
 void run_proxy(const RunPlan& plan, BlockResults& results) {
   constexpr MapperChoice mappers = Basins ? kEveryMapper : MapperChoice{false, false, false, false};
-  using Runner = BlockRunner<ProxyScene<D>, ProxyMethod, Carry{false, false}, Uniform,
-                             NoMeasureFormulas, mappers, true>;
+  using M = std::conditional_t<Formulas, ProxyFormulas, NoMeasureFormulas>;
+  using Runner = BlockRunner<ProxyScene<D>, ProxyMethod, Carry{false, false}, Uniform, M, mappers,
+                             true>;
   std::make_unique<Runner>(plan, results)->run();
+}
+
+template <int D, bool Formulas>
+void run_proxy(const RunPlan& plan, BlockResults& results) {
+  const bool uniform = plan.grid.uniform_parameters(), basins = plan.map.basin >= 0;
+  if (uniform && basins) run_proxy<D, true, true, Formulas>(plan, results);
+  else if (uniform) run_proxy<D, true, false, Formulas>(plan, results);
+  else if (basins) run_proxy<D, false, true, Formulas>(plan, results);
+  else run_proxy<D, false, false, Formulas>(plan, results);
 }
 
 template <int D>
 void run_proxy(const RunPlan& plan, BlockResults& results) {
-  const bool uniform = plan.grid.uniform_parameters(), basins = plan.map.basin >= 0;
-  if (uniform && basins) run_proxy<D, true, true>(plan, results);
-  else if (uniform) run_proxy<D, true, false>(plan, results);
-  else if (basins) run_proxy<D, false, true>(plan, results);
-  else run_proxy<D, false, false>(plan, results);
+  if (has_measure_formulas(plan.spec.measures)) run_proxy<D, true>(plan, results);
+  else run_proxy<D, false>(plan, results);
+}
+
+// Measures as formulas a step kernel can hold: observables evaluated where the runner samples.
+// The stop's condition and a window without trajectory are evaluated after every step, inside
+// the step loop: a whole kernel's.
+bool formulas_fit_step_kernel(const RunPlan& plan) {
+  const ObservePlan& o = plan.observe;
+  return !o.stop && !o.window_every_step && o.observables <= kStepKernelMaxObservables;
 }
 
 }  // namespace
@@ -65,8 +82,12 @@ bool uses_energy_trap(const RunPlan& plan) {
 
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
   for (const RunPlan* plan : plans) {
-    if (!plan->spec.custom || plan->method.adaptive || plan->carry.tangent ||
-        has_measure_formulas(plan->spec.measures) ||
+    // A built-in scene's runs are compiled ahead of time but those with measures as formulas
+    // (and its basin maps, whose energy trap and fixed points read the scene's own type).
+    const bool formulas = has_measure_formulas(plan->spec.measures);
+    if (!plan->spec.custom && !(formulas && plan->map.basin < 0)) return false;
+    if (plan->method.adaptive || plan->carry.tangent ||
+        (formulas && !formulas_fit_step_kernel(*plan)) ||
         plan->scene.dof > kStepKernelMaxDof ||
         plan->scene.parameters.size() > static_cast<std::size_t>(kStepKernelParamFields) ||
         coefficient_count(plan->spec.method) > kStepKernelCoefFields)
@@ -82,7 +103,9 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
       kernel.param_fields > kStepKernelParamFields ||
       kernel.coef_fields != coefficient_count(plan.spec.method) ||
       kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof) ||
-      kernel.trap.used != uses_energy_trap(plan))
+      kernel.trap.used != uses_energy_trap(plan) ||
+      kernel.formulas.observables != plan.observe.observables ||
+      (kernel.formulas.observables > 0) != (kernel.formulas.observe != nullptr))
     throw std::logic_error("the step kernel of scene.K does not match this program's runner");
 }
 

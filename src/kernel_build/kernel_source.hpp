@@ -54,9 +54,12 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 // A step kernel's complete source text (entry point kStepKernelEntry, engine/step_kernel.hpp):
 // the step loop and per-lane functions the program's runner calls (runs_on_step_kernel), for
 // every fixed-step method: the text, and so the kernel's key, names no method. With the energy
-// trap's entries for a basin map that uses it (StepKernelTrap).
+// trap's entries for a basin map that uses it (StepKernelTrap), and the run's measures as
+// formulas where `measures` (measures_source's struct kMeasuresStruct) is not empty
+// (StepKernelFormulas).
 std::string step_kernel_source(const std::string& scene_header, const std::string& scene_struct,
-                               Carry carry, bool uniform_parameters, bool energy_trap);
+                               Carry carry, bool uniform_parameters, bool energy_trap,
+                               const std::string& measures = {});
 
 // The orbit kernel's complete source text (entry point kOrbitEntry).
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

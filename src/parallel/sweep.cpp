@@ -361,18 +361,24 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
 
 // A K's step kernel (engine/step_kernel.hpp) for runs the program's own runner can make
 // (runs_on_step_kernel): its step loop and per-lane functions alone, a fraction of a whole
-// kernel's compile (docs/performance.md). Compiled once per node and cached, as custom_kernel,
-// with a basin map's orbit kernel beside it.
+// kernel's compile (docs/performance.md); with the run's measures as formulas where it has them
+// (a built-in scene's run with observe gets one too). Compiled once per node and cached, as
+// custom_kernel, with a basin map's orbit kernel beside it.
 const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = scene_source(plan);
+  std::string measures;
+  if (has_measure_formulas(plan.spec.measures))
+    measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  const std::string what =
+      plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with its measures";
   void* entry = kernel_with_orbit(
       plan, scene,
       step_kernel_source(scene.header, scene.struct_name, plan.carry,
-                         plan.grid.uniform_parameters(), uses_energy_trap(plan)),
-      kStepKernelEntry, "scene.K", options, comm);
+                         plan.grid.uniform_parameters(), uses_energy_trap(plan), measures),
+      kStepKernelEntry, what, options, comm);
   const StepKernel* kernel = reinterpret_cast<StepKernelEntry>(entry)(plan.spec.method.c_str());
   if (kernel == nullptr)
-    throw std::logic_error("the step kernel of scene.K has no table for " + plan.spec.method);
+    throw std::logic_error("the step kernel of " + what + " has no table for " + plan.spec.method);
   check_step_kernel(*kernel, plan);
   return kernel;
 }

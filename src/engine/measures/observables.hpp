@@ -33,44 +33,11 @@
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/basin_mapper.hpp"
+#include "engine/measures/observable_view.hpp"
 #include "engine/run_plan.hpp"
 #include "numerics/lane_state.hpp"
 
 namespace cs {
-
-// What a measure's formula reads: one lane's state, its time and λ = exp(ln λ).
-template <int D>
-struct ObservableView {
-  const double* q;
-  const double* p;
-  double z, t, lambda;
-};
-template <int i, int D>
-inline double q(const ObservableView<D>& x) { return x.q[i]; }
-template <int i, int D>
-inline double p(const ObservableView<D>& x) { return x.p[i]; }
-template <int D>
-inline double z(const ObservableView<D>& x) { return x.z; }
-template <int D>
-inline double t(const ObservableView<D>& x) { return x.t; }
-template <int D>
-inline double lambda(const ObservableView<D>& x) { return x.lambda; }
-
-// The measures of a run without observe and stop (every built-in kernel).
-struct NoMeasureFormulas {
-  static constexpr int observables = 0;
-  static constexpr bool stop = false;
-  static constexpr bool reads_lambda = false;
-  template <class X, class C>
-  static void observe(const X&, const C&, double*) {}
-  template <class X, class C>
-  static bool stops(const X&, const C&) { return false; }
-  template <class X, class C>
-  static double exit(const X&, const C&) { return 0.0; }
-};
-
-template <class M>
-inline constexpr bool kHasFormulas = M::observables > 0 || M::stop;
 
 // Per-lane state of observe and stop, by slot (0 … W−1 main tile, W … 2W−1 finisher).
 template <Scene S, class Method, Carry carry, bool Uniform, class M, int W>
@@ -89,8 +56,16 @@ class FormulaTracker {
 
   // λ of a lane: exp(ln λ), ln λ as final_log_lambda (lane_state.hpp, log_lambda).
   static double lambda_of(const LaneState<D>& x) {
+    if constexpr (requires { M::run_time_reads_lambda(); })  // a step kernel's formulas
+      if (!M::run_time_reads_lambda()) return 1.0;
     if constexpr (M::reads_lambda) return std::exp(log_lambda<S>(x));
     else return 1.0;
+  }
+
+  // The run's observables: M's, or a step kernel's (M::observables is then the runner's room).
+  static int observable_count() {
+    if constexpr (requires { M::run_time_observables(); }) return M::run_time_observables();
+    else return M::observables;
   }
 
   static ObservableView<D> view(const LaneState<D>& x, double t) {
@@ -316,7 +291,7 @@ class FormulaTracker {
     if constexpr (M::observables > 0) {
       double v[K];
       M::observe(view(x, clock_.at(n)), c, v);
-      for (int k = 0; k < K; ++k)
+      for (int k = 0; k < observable_count(); ++k)
         if (o_.trajectory[k] >= 0) column(o_.trajectory[k], point)[sample] = v[k];
       if (o_.window && n >= o_.window_first && n <= o_.window_last) add(slot, v);
     }
@@ -332,7 +307,7 @@ class FormulaTracker {
       // An adaptive lane's b.n counts its attempts; its own time is x.t.
       const double time = adaptive_method<Method>() ? x.t : clock_.at(b.n);
       M::observe(view(x, time), c, v);
-      for (int k = 0; k < K; ++k) {
+      for (int k = 0; k < observable_count(); ++k) {
         column(o_.final_value[k], b.point)[0] = failed ? nan : v[k];
         if (!o_.window) continue;
         const bool none = status != LaneStatus::ok || count_[slot] == 0.0 || nan_[slot] != 0.0;
@@ -403,7 +378,7 @@ class FormulaTracker {
 
   void add(int slot, const double* v) {
     double nan_seen = nan_[slot];
-    for (int k = 0; k < K && k < M::observables; ++k) {
+    for (int k = 0; k < observable_count(); ++k) {
       sum_[k][slot] = sum_[k][slot] + v[k];
       min_[k][slot] = v[k] < min_[k][slot] ? v[k] : min_[k][slot];
       max_[k][slot] = v[k] > max_[k][slot] ? v[k] : max_[k][slot];
