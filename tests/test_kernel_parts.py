@@ -18,9 +18,10 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
   the program's runner holds the stroboscopic cycles: no kernel names a mapper.
 * The built-in double well with lyapunov and no basin map (a kernel built at run time): no
   mapper either, and its final states are the built-in kernel's (every mapper, none active).
-* The built-in double well with observe (read at its trajectory's samples and its end): a step
-  kernel, whose final states are the built-in kernel's and whose observables are the bits of a
-  whole kernel's (the same run with a stop that never holds).
+* The built-in double well with observe: a step kernel, whose final states are the built-in
+  kernel's; with a stop and a window without trajectory (their work after every step in the
+  step kernel's loop) its final states, statistics and stop times are the bits of a whole
+  kernel's (the same run with lyapunov).
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
   a trajectory it is, and the final states are the same bits (samples never change the steps).
 """
@@ -149,26 +150,38 @@ if builtin and tangent:
     same_final_state("built-in double well: the same final states with lyapunov's kernel",
                      builtin, tangent)
 
-# Measures as formulas read where the runner samples: a step kernel holds them (for a built-in
-# scene too); the stop's condition, read after every step, a whole kernel.
-OBSERVE = 'trajectory = { every = 100 }\nobserve = { E = "p^2/2 + (q^2 - a*a)^2/2", L = "lambda*z" }\n'
+# Measures as formulas: a step kernel holds them (for a built-in scene too), their work after
+# every step (the stop's condition, a window without trajectory) in its step loop. The same run
+# with lyapunov builds a whole kernel (the tangent is K's code): the same bits.
+OBSERVE = ('trajectory = { every = 100 }\nobserve = { E = "p^2/2 + (q^2 - a*a)^2/2", L = "lambda*z" }\n')
+EVERY_STEP = ('observe = { E = "p^2/2 + (q^2 - a*a)^2/2", L = "lambda*z" }\n'
+              'observe_window = { from = 5.0, to = 30.0 }\nstop = { when = "q*p > 1.5" }\n')
 observed, found = run_in_fresh_cache(BUILTIN + OBSERVE, "well_builtin_observe",
                                      parts=MAPPERS + (STEP_ENTRY,))
 check("built-in double well with observe at its samples: a step kernel, no mapper",
       list(found.values()) == [{STEP_ENTRY}], f"{found}")
-stopped, found = run_in_fresh_cache(BUILTIN + OBSERVE + 'stop = { when = "q > 1e300" }\n',
-                                    "well_builtin_observe_stop", parts=MAPPERS + (STEP_ENTRY,))
-check("the same with a stop: a whole kernel, no mapper",
-      list(found.values()) == [set()], f"{found}")
-if builtin and observed and stopped:
+if builtin and observed:
     ours, theirs = final_state(observed), final_state(builtin)
     check("built-in double well: the same final states on its step kernel",
           bool(theirs) and all(np.array_equal(ours[k], v, equal_nan=True)
                                for k, v in theirs.items()), f"{sorted(theirs)}")
-    with h5py.File(observed, "r") as a, h5py.File(stopped, "r") as b:
-        names = ("final_E", "final_L", "traj_E", "traj_L")
-        check("observables on the step kernel: the bits of the whole kernel's",
-              all(np.array_equal(a[n][...], b[n][...], equal_nan=True) for n in names),
+watched, found = run_in_fresh_cache(BUILTIN + EVERY_STEP, "well_builtin_stop",
+                                    parts=MAPPERS + (STEP_ENTRY,))
+check("with a stop and a window without trajectory: a step kernel, no mapper",
+      list(found.values()) == [{STEP_ENTRY}], f"{found}")
+whole, found = run_in_fresh_cache(BUILTIN + EVERY_STEP + "lyapunov = {}\n",
+                                  "well_builtin_stop_lyapunov", parts=MAPPERS + (STEP_ENTRY,))
+check("the same with lyapunov: a whole kernel, no mapper",
+      list(found.values()) == [set()], f"{found}")
+if watched and whole:
+    with h5py.File(watched, "r") as a, h5py.File(whole, "r") as b:
+        names = [n for n in a if n.startswith(("final_", "mean_", "min_", "max_", "stop_"))]
+        stopped = np.isfinite(a["stop_time"][...])
+        check("the stop holds for some lanes and not for others",
+              0 < np.count_nonzero(stopped) < stopped.size, f"{np.count_nonzero(stopped)}")
+        check("the step kernel's stop and window: the bits of the whole kernel's",
+              len(names) >= 8 and all(np.array_equal(a[n][...], b[n][...], equal_nan=True)
+                                      for n in names),
               f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")
 
 DOP853 = WELL.replace('method = "hybrid_leapfrog"', 'method = "dop853"\nrtol = 1e-9')

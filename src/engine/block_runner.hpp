@@ -228,8 +228,12 @@ class BlockRunner {
       }
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
-        advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,
-                                           clock_.h, [&](int s) { formulas_.after_step(t, which, s); });
+        if constexpr (requires { Formulas::is_proxy; })  // a step kernel's loop does the work
+          formulas_.advance_in_kernel(t, which, steps, uniform_params_, uniform_coef_);
+        else
+          advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_,
+                                             clock_.t_start, clock_.h,
+                                             [&](int s) { formulas_.after_step(t, which, s); });
         return;
       }
       advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_, clock_.t_start,

@@ -149,26 +149,44 @@ struct ProxyMethod {
   static void start(LaneState<S::dof>& x, const C& c) {
     step_kernel().start(&x, c.v);
   }
+  // One lane's step, for the stop's rerun (engine/block_runner_stop.hpp); the carried state is
+  // the kernel's.
+  template <Scene S, Carry, class C, class K>
+  static void step(LaneState<S::dof>& x, const C& c, const K& k) {
+    step_kernel().step(&x, c.v, k.v);
+  }
 };
 
 // The run's measures as formulas where the kernel holds them (StepKernelFormulas): the runner's
-// formula tracker (engine/measures/observables.hpp) with room for kStepKernelMaxObservables, the
-// kernel's own count at run time (run_time_observables); λ where the formulas read it.
+// formula tracker (engine/measures/observables.hpp) with room for kStepKernelMaxObservables and
+// a stop, the kernel's own count and stop at run time; λ where the formulas read it. Their work
+// after every step runs in the kernel's step loop (FormulaTracker::advance_in_kernel).
 struct ProxyFormulas {
   static constexpr bool is_proxy = true;
   static constexpr int observables = kStepKernelMaxObservables;
-  static constexpr bool stop = false;
+  static constexpr bool stop = true;
   static constexpr bool reads_lambda = true;
   static int run_time_observables() { return step_kernel().formulas.observables; }
+  static bool run_time_stop() { return step_kernel().formulas.stop; }
   static bool run_time_reads_lambda() { return step_kernel().formulas.reads_lambda; }
   template <int D, class C>
   static void observe(const ObservableView<D>& x, const C& c, double* v) {
     step_kernel().formulas.observe(x.q, x.p, x.z, x.t, x.lambda, c.v, v);
   }
-  template <class X, class C>
-  static bool stops(const X&, const C&) { return false; }
-  template <class X, class C>
-  static double exit(const X&, const C&) { return 0.0; }
+  template <int D, class C>
+  static bool stops(const ObservableView<D>& x, const C& c) {
+    return step_kernel().formulas.stops(x.q, x.p, x.z, x.t, x.lambda, c.v);
+  }
+  template <int D, class C>
+  static double exit(const ObservableView<D>& x, const C& c) {
+    return step_kernel().formulas.exit(x.q, x.p, x.z, x.t, x.lambda, c.v);
+  }
+  static void advance_watched(void* tile, int steps, const double* uniform_params,
+                              const double* uniform_coef, double t_start, double h, int which,
+                              void* steps_state) {
+    step_kernel().advance_watched(tile, steps, uniform_params, uniform_coef, t_start, h, which,
+                                  steps_state);
+  }
 };
 
 // The step loop: the kernel's, chosen over lane_tile.hpp's as the more constrained template.

@@ -59,18 +59,25 @@ struct StepKernelTrap {
                       const void* wells, double* minimum) = nullptr;
 };
 
-// The run's measures as formulas ([measures] observe; engine/measures/observables.hpp), in a
-// kernel built for a run that has them; else `observables` is 0 and the entry null. The kernel's
-// source holds the generated formulas, so its key is the formulas' too. Evaluated one lane at a
-// time, where the runner samples (a trajectory's samples, the lane's end): a run whose formulas
-// are evaluated after every step (stop, observe_window without trajectory) gets a whole kernel.
-// values[k] is observable k in the spec's order; λ is exp(ln λ), computed by the runner where
-// reads_lambda.
+// The run's measures as formulas ([measures] observe, observe_window, stop;
+// engine/measures/observables.hpp), in a kernel built for a run that has them; else
+// `observables` is 0, `stop` false and the entries null. The kernel's source holds the generated
+// formulas, so its key is the formulas' too. One lane's values, its stop's condition and exit
+// channel, at the state (q, p, z), time t and λ = exp(ln λ) (computed by the runner where
+// reads_lambda); values[k] is observable k in the spec's order. What the formulas do after every
+// step (the stop's flags, a window without trajectory) runs in the kernel's step loop
+// (StepKernel::advance_watched) on the runner's FormulaSteps, of steps_bytes.
 struct StepKernelFormulas {
   int observables = 0;
+  bool stop = false;
   bool reads_lambda = false;
+  std::size_t steps_bytes = 0;
   void (*observe)(const double* q, const double* p, double z, double t, double lambda,
                   const double* params, double* values) = nullptr;
+  bool (*stops)(const double* q, const double* p, double z, double t, double lambda,
+                const double* params) = nullptr;
+  double (*exit)(const double* q, const double* p, double z, double t, double lambda,
+                 const double* params) = nullptr;
 };
 
 // Parameters and coefficients travel as kStepKernelParamFields and kStepKernelCoefFields
@@ -89,6 +96,14 @@ struct StepKernel {
   // coefficients from the tile's lanes when the kernel was built for per-lane parameters.
   void (*advance)(void* tile, int steps, const double* uniform_params, const double* uniform_coef,
                   double t_start, double h);
+  // As advance, with the formulas' work after every step (formula_steps.hpp's
+  // formula_after_step) on tile `which` (0 main, 1 finisher) and the runner's FormulaSteps
+  // `steps_state`; null without formulas.
+  void (*advance_watched)(void* tile, int steps, const double* uniform_params,
+                          const double* uniform_coef, double t_start, double h, int which,
+                          void* steps_state);
+  // One step of one lane (Method::step), for the stop's scalar rerun.
+  void (*step)(void* lane_state, const double* params, const double* coef);
   void (*start)(void* lane_state, const double* params);  // Method::start
   void (*coefficients)(double h, const double* params, const void* lane_state, double* coef);
   bool (*breaks_down)(const double* coef);

@@ -12,6 +12,7 @@
 
 #include "engine/lane_health.hpp"
 #include "engine/lane_tile.hpp"
+#include "engine/measures/formula_steps.hpp"
 #include "engine/measures/observable_view.hpp"
 #include "engine/proxy_scene.hpp"
 #include "engine/step_kernel.hpp"
@@ -112,17 +113,35 @@ constexpr StepKernelTrap step_kernel_trap() {
 }
 
 // The run's measures as formulas (step_kernel.hpp's StepKernelFormulas), where the kernel is
-// built with them (M, the generated struct); else none.
+// built with them (M, the generated struct); else none. The runner keeps their every-step state
+// for kStepKernelMaxObservables.
+template <int W>
+using StepKernelFormulaSteps = FormulaSteps<kStepKernelMaxObservables, W>;
+
 template <Scene S, class M>
 struct StepKernelFormulasOf {
   static constexpr int D = S::dof;
-  static_assert(M::observables <= kStepKernelMaxObservables && !M::stop);
+  static_assert(M::observables <= kStepKernelMaxObservables);
+  static ObservableView<D> view(const double* q, const double* p, double z, double t,
+                                double lambda) {
+    return {q, p, z, t, lambda};
+  }
   static void observe(const double* q, const double* p, double z, double t, double lambda,
                       const double* c, double* values) {
-    M::observe(ObservableView<D>{q, p, z, t, lambda}, StepKernelScene<S>::params(c), values);
+    M::observe(view(q, p, z, t, lambda), StepKernelScene<S>::params(c), values);
+  }
+  static bool stops(const double* q, const double* p, double z, double t, double lambda,
+                    const double* c) {
+    return M::stops(view(q, p, z, t, lambda), StepKernelScene<S>::params(c));
+  }
+  static double exit(const double* q, const double* p, double z, double t, double lambda,
+                     const double* c) {
+    return M::exit(view(q, p, z, t, lambda), StepKernelScene<S>::params(c));
   }
   static constexpr StepKernelFormulas table() {
-    if constexpr (M::observables > 0) return {M::observables, M::reads_lambda, &observe};
+    if constexpr (kHasFormulas<M>)
+      return {M::observables, M::stop, M::reads_lambda,
+              sizeof(StepKernelFormulaSteps<kStepKernelWidth>), &observe, &stops, &exit};
     else return {};
   }
 };
@@ -151,6 +170,33 @@ struct StepKernelOf : StepKernelScene<S> {
     cs::advance<S, Method, carry, Uniform>(*static_cast<Tile*>(tile), steps, params(uniform_params),
                                            k, t_start, h, [](int) {});
   }
+  static void advance_watched(void* tile, int steps, const double* uniform_params,
+                              const double* uniform_coef, double t_start, double h, int which,
+                              void* steps_state) {
+    Coef k;
+    std::memcpy(&k, uniform_coef, sizeof k);
+    Tile& t = *static_cast<Tile*>(tile);
+    const Params c = params(uniform_params);
+    auto& a = *static_cast<StepKernelFormulaSteps<kStepKernelWidth>*>(steps_state);
+    cs::advance<S, Method, carry, Uniform>(t, steps, c, k, t_start, h, [&](int s) {
+      formula_after_step<S, carry, Uniform, M>(t, which, s, a, LaneClock{t_start, h}, c);
+    });
+  }
+  static void step(void* x, const double* c, const double* coef) {
+    Coef k;
+    std::memcpy(&k, coef, sizeof k);
+    Method::template step<S, carry>(state(x), params(c), k);
+  }
+  // Compiled where the run has formulas (a step loop's second copy), the lane's step where it
+  // has a stop.
+  static constexpr auto advance_watched_entry() {
+    if constexpr (kHasFormulas<M>) return &advance_watched;
+    else return decltype(&advance_watched){nullptr};
+  }
+  static constexpr auto step_entry() {
+    if constexpr (M::stop) return &step;
+    else return decltype(&step){nullptr};
+  }
   static void start(void* x, const double* c) { Method::template start<S>(state(x), params(c)); }
   static void coefficients(double h, const double* c, const void* x, double* out) {
     const Coef k = Method::template coefficients<S>(h, params(c), state(x));
@@ -165,7 +211,8 @@ struct StepKernelOf : StepKernelScene<S> {
   static constexpr StepKernel table{kStepKernelAbi, Method::description.name.data(), D,
                                     kParamFields, kCoefFields, sizeof(Tile),
                                     S::kz_constant, time_dependent<S>(),
-                                    &advance, &start, &coefficients, &breaks_down,
+                                    &advance, advance_watched_entry(), step_entry(),
+                                    &start, &coefficients, &breaks_down,
                                     &SceneParts::defined_at, &SceneParts::K, &SceneParts::log_lambda,
                                     &SceneParts::diverged, &SceneParts::natural_frequencies,
                                     step_kernel_trap<S, Trap>(),

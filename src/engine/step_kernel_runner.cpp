@@ -65,12 +65,17 @@ void run_proxy(const RunPlan& plan, BlockResults& results) {
   else run_proxy<D, false>(plan, results);
 }
 
-// Measures as formulas a step kernel can hold: observables evaluated where the runner samples.
-// The stop's condition and a window without trajectory are evaluated after every step, inside
-// the step loop: a whole kernel's.
+// Measures as formulas a step kernel can hold: as many observables as the runner has room for.
 bool formulas_fit_step_kernel(const RunPlan& plan) {
-  const ObservePlan& o = plan.observe;
-  return !o.stop && !o.window_every_step && o.observables <= kStepKernelMaxObservables;
+  return plan.observe.observables <= kStepKernelMaxObservables;
+}
+
+// The table's formulas are the plan's, laid out for this program's runner.
+bool formulas_match(const StepKernelFormulas& f, const RunPlan& plan) {
+  const bool any = plan.observe.observables > 0 || plan.observe.stop;
+  return f.observables == plan.observe.observables && f.stop == plan.observe.stop &&
+         (!any || (f.steps_bytes == sizeof(FormulaSteps<kStepKernelMaxObservables, kStepKernelWidth>) &&
+                   f.observe != nullptr && f.stops != nullptr && f.exit != nullptr));
 }
 
 }  // namespace
@@ -104,8 +109,9 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
       kernel.coef_fields != coefficient_count(plan.spec.method) ||
       kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof) ||
       kernel.trap.used != uses_energy_trap(plan) ||
-      kernel.formulas.observables != plan.observe.observables ||
-      (kernel.formulas.observables > 0) != (kernel.formulas.observe != nullptr))
+      !formulas_match(kernel.formulas, plan) ||
+      (kernel.advance_watched != nullptr) != has_measure_formulas(plan.spec.measures) ||
+      (kernel.step != nullptr) != plan.observe.stop)
     throw std::logic_error("the step kernel of scene.K does not match this program's runner");
 }
 

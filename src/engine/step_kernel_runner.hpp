@@ -11,11 +11,10 @@
 namespace cs {
 
 // Whether the runs of `plans` (a run's step-size slices) need nothing of a K beyond a step
-// kernel: a fixed-step method, no lyapunov tangent, measures as formulas only where the runner
-// samples (no stop, no observe_window without trajectory; at most kStepKernelMaxObservables), at
-// most kStepKernelMaxDof degrees of freedom and the tile's room for the parameters and the
-// method's coefficients. A built-in scene's run with such measures and no basin map too: its
-// other runs are compiled ahead of time.
+// kernel: a fixed-step method, no lyapunov tangent, at most kStepKernelMaxObservables measures
+// as formulas, at most kStepKernelMaxDof degrees of freedom and the tile's room for the
+// parameters and the method's coefficients. A built-in scene's run with measures as formulas and
+// no basin map too: its other runs are compiled ahead of time.
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans);
 
 // Whether the plan's basin map uses the energy trap: its exact_trap, where K has one

@@ -41,20 +41,10 @@
 #include <array>
 #include <cstdint>
 
+#include "engine/lane_clock.hpp"
 #include "engine/run_plan.hpp"
 
 namespace cs {
-
-// The integer type of the looks' per-lane flags and countdowns (BlockRunner::screen()). With
-// AVX2 they are as wide as the doubles they come from, so the vector loop packs no 64-bit compare
-// masks into 32-bit lanes: the looks' share of the 512² basin map went from 6.8 to 5.7 % (Zen 4,
-// perf). AVX-512 compares into mask registers, which pack for free; there 64-bit flags only
-// double the arrays (7.2–8.1 % against 6.7–7.3 %, four runs each). Only speed depends on it.
-#ifdef __AVX512F__
-using LookInt = std::int32_t;
-#else
-using LookInt = std::int64_t;
-#endif
 
 // Where a lane settled: what every mapper writes (kept per block: settlement_records.hpp).
 template <int N>
@@ -63,12 +53,6 @@ struct Settlement {
   int period = 0;                // of the cycle (1: a fixed point)
   std::array<double, N> point{};  // q.., p..: the attractor's point, angles reduced
   double settle_time = 0.0;
-};
-
-// A lane's time after n steps, computed as the kernel does (lane_tile.hpp).
-struct LaneClock {
-  double t_start = 0.0, h = 0.0;
-  double at(std::int64_t n) const { return t_start + static_cast<double>(n) * h; }
 };
 
 }  // namespace cs

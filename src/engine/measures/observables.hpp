@@ -33,6 +33,7 @@
 #include "engine/lane_tile.hpp"
 #include "engine/lane_writer.hpp"
 #include "engine/mappers/basin_mapper.hpp"
+#include "engine/measures/formula_steps.hpp"
 #include "engine/measures/observable_view.hpp"
 #include "engine/run_plan.hpp"
 #include "numerics/lane_state.hpp"
@@ -40,10 +41,19 @@
 namespace cs {
 
 // Per-lane state of observe and stop, by slot (0 … W−1 main tile, W … 2W−1 finisher).
+//
+// Over a step kernel's proxy scene (M = ProxyFormulas, engine/proxy_scene.hpp) the formulas are
+// the kernel's: their values one lane at a time through its table, and the every-step work inside
+// its step loop (advance_in_kernel), which this tracker hands its FormulaSteps. The kernel
+// carries what the run's formulas read; the runner's own carried state says nothing of it, so a
+// proxy's snapshot and rerun keep every field.
 template <Scene S, class Method, Carry carry, bool Uniform, class M, int W>
 class FormulaTracker {
   static constexpr int D = S::dof;
   static constexpr int K = M::observables > 0 ? M::observables : 1;
+  static constexpr bool kInKernel = requires { M::is_proxy; };
+  static constexpr bool kWithZ = carry.z || S::z_feeds_back || kInKernel;
+  static constexpr bool kWithMu = carry.mu || kInKernel;
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
@@ -51,15 +61,14 @@ class FormulaTracker {
  public:
   FormulaTracker(const RunPlan& plan, BlockResults& out, LaneClock clock, const Params& uniform)
       : plan_(plan), o_(plan.observe), out_(out), clock_(clock), uniform_(uniform) {
+    a_.window_first = o_.window_first;
+    a_.window_last = o_.window_last;
     for (int s = 0; s < 2 * W; ++s) clear(s);
   }
 
-  // λ of a lane: exp(ln λ), ln λ as final_log_lambda (lane_state.hpp, log_lambda).
-  static double lambda_of(const LaneState<D>& x) {
-    if constexpr (requires { M::run_time_reads_lambda(); })  // a step kernel's formulas
-      if (!M::run_time_reads_lambda()) return 1.0;
-    if constexpr (M::reads_lambda) return std::exp(log_lambda<S>(x));
-    else return 1.0;
+  // What a formula reads of a lane at time t (formula_steps.hpp).
+  static ObservableView<D> view(const LaneState<D>& x, double t) {
+    return formula_view<S, M>(x, t);
   }
 
   // The run's observables: M's, or a step kernel's (M::observables is then the runner's room).
@@ -67,25 +76,27 @@ class FormulaTracker {
     if constexpr (requires { M::run_time_observables(); }) return M::run_time_observables();
     else return M::observables;
   }
-
-  static ObservableView<D> view(const LaneState<D>& x, double t) {
-    return {x.q, x.p, x.z, t, lambda_of(x)};
+  // Whether the run has a stop: M's, or a step kernel's.
+  static bool has_stop() {
+    if constexpr (requires { M::run_time_stop(); }) return M::run_time_stop();
+    else return M::stop;
   }
 
   void clear(int slot) {
-    hit_[slot] = 0;
-    count_[slot] = 0.0;
-    nan_[slot] = 0.0;
+    a_.hit[slot] = 0;
+    a_.count[slot] = 0.0;
+    a_.nan[slot] = 0.0;
     for (int k = 0; k < K; ++k)
-      sum_[k][slot] = 0.0, min_[k][slot] = INFINITY, max_[k][slot] = -INFINITY;
+      a_.sum[k][slot] = 0.0, a_.min[k][slot] = INFINITY, a_.max[k][slot] = -INFINITY;
   }
 
   void move(int from, int to) {
-    count_[to] = count_[from];
-    nan_[to] = nan_[from];
+    a_.count[to] = a_.count[from];
+    a_.nan[to] = a_.nan[from];
     for (int k = 0; k < K; ++k)
-      sum_[k][to] = sum_[k][from], min_[k][to] = min_[k][from], max_[k][to] = max_[k][from];
-    hit_[to] = 0;
+      a_.sum[k][to] = a_.sum[k][from], a_.min[k][to] = a_.min[k][from],
+      a_.max[k][to] = a_.max[k][from];
+    a_.hit[to] = 0;
   }
 
   // A lane loaded at step 0: its first sample, and whether it stops there already.
@@ -111,16 +122,17 @@ class FormulaTracker {
         window = hi + steps >= o_.window_first && lo + 1 <= o_.window_last;
       }
     }
-    window_now_ = window;
-    if (!M::stop && !window) return false;
-    for (int i = 0; i < W; ++i) base_[b + i] = steps_done[i], hit_[b + i] = 0;
-    if constexpr (!M::stop) return true;
+    a_.window_now = window;
+    const bool stop = M::stop && has_stop();
+    if (!stop && !window) return false;
+    for (int i = 0; i < W; ++i) a_.base[b + i] = steps_done[i], a_.hit[b + i] = 0;
+    if (!stop) return true;
     Snapshot& s = snapshot_[which];
     std::memcpy(s.q, t.q, sizeof s.q);
     std::memcpy(s.p, t.p, sizeof s.p);
     std::memcpy(s.kq, t.kq, sizeof s.kq);
-    if constexpr (carry.z || S::z_feeds_back) std::memcpy(s.z, t.z, sizeof s.z);
-    if constexpr (carry.mu) {
+    if constexpr (kWithZ) std::memcpy(s.z, t.z, sizeof s.z);
+    if constexpr (kWithMu) {
       std::memcpy(s.mu, t.mu, sizeof s.mu);
       std::memcpy(s.numerator, t.lambda_numerator, sizeof s.numerator);
       std::memcpy(s.denominator, t.lambda_denominator, sizeof s.denominator);
@@ -128,62 +140,37 @@ class FormulaTracker {
     }
     if constexpr (!S::kz_constant) std::memcpy(s.broken, t.broken, sizeof s.broken);
     if (o_.window_every_step) {
-      std::memcpy(s.sum, &sum_[0][0], sizeof s.sum);  // both tiles' slots: simple and small
-      std::memcpy(s.min, &min_[0][0], sizeof s.min);
-      std::memcpy(s.max, &max_[0][0], sizeof s.max);
-      std::memcpy(s.count, count_, sizeof s.count);
-      std::memcpy(s.nan, nan_, sizeof s.nan);
+      std::memcpy(s.sum, &a_.sum[0][0], sizeof s.sum);  // both tiles' slots: simple and small
+      std::memcpy(s.min, &a_.min[0][0], sizeof s.min);
+      std::memcpy(s.max, &a_.max[0][0], sizeof s.max);
+      std::memcpy(s.count, a_.count, sizeof s.count);
+      std::memcpy(s.nan, a_.nan, sizeof s.nan);
     }
     return true;
   }
 
   // After step s of an advance (the tile's lanes at step base + s + 1): the stop's flags and
-  // the window's every-step samples, vectorised over the tile.
+  // the window's every-step samples, vectorised over the tile (formula_steps.hpp).
   void after_step(const Tile& t, int which, int s) {
-    const int b = which * W;
-    if constexpr (M::stop) {
-#pragma GCC ivdep
-      for (int i = 0; i < W; ++i) {
-        LaneState<D> x = tile_lane(t, i);
-        const double time = clock_.at(base_[b + i] + s + 1);
-        hit_[b + i] |= static_cast<LookInt>(M::stops(view(x, time), params(t, i)));
-      }
-    }
-    if constexpr (M::observables > 0) {
-      if (!window_now_) return;
-      // Branch-free, so that it vectorises: a sample outside the window adds +0.0 to the sum
-      // (which is never −0.0: it starts at +0.0), and leaves min, max, count as they are.
-      const std::int64_t first = o_.window_first, last = o_.window_last;
-#pragma GCC ivdep
-      for (int i = 0; i < W; ++i) {
-        const int slot = b + i;
-        const std::int64_t n = base_[slot] + s + 1;
-        const bool in = (n >= first) & (n <= last);
-        LaneState<D> x = tile_lane(t, i);
-        double v[K];
-        M::observe(view(x, clock_.at(n)), params(t, i), v);
-        double nan_seen = nan_[slot];
-        for (int k = 0; k < M::observables; ++k) {
-          const double mn = min_[k][slot], mx = max_[k][slot];
-          sum_[k][slot] = sum_[k][slot] + lane_math::select(in, v[k], 0.0);
-          min_[k][slot] = lane_math::select(in & (v[k] < mn), v[k], mn);
-          max_[k][slot] = lane_math::select(in & (v[k] > mx), v[k], mx);
-          nan_seen = lane_math::select(in & (v[k] != v[k]), 1.0, nan_seen);
-        }
-        nan_[slot] = nan_seen;
-        count_[slot] = count_[slot] + lane_math::select(in, 1.0, 0.0);
-      }
-    }
+    static_assert(!kInKernel, "a step kernel's formulas run after each step in its step loop");
+    formula_after_step<S, carry, Uniform, M>(t, which, s, a_, clock_, uniform_);
+  }
+
+  // Over a proxy scene, after before_advance said the advance needs the every-step work: the
+  // kernel's step loop with it (StepKernel::advance_watched).
+  void advance_in_kernel(Tile& t, int which, int steps, const Params& uniform, const Coef& coef) {
+    static_assert(kInKernel);
+    M::advance_watched(&t, steps, uniform.v, coef.v, clock_.t_start, clock_.h, which, &a_);
   }
 
   // The main tile's lanes that stopped during the chunk need a look.
   void screen(LookInt* attention) const {
     if constexpr (M::stop)
-      for (int i = 0; i < W; ++i) attention[i] |= hit_[i];
+      for (int i = 0; i < W; ++i) attention[i] |= a_.hit[i];
   }
 
   bool hit(int slot) const {
-    if constexpr (M::stop) return hit_[slot] != 0;
+    if constexpr (M::stop) return a_.hit[slot] != 0;
     return false;
   }
 
@@ -199,8 +186,8 @@ class FormulaTracker {
     x = LaneState<D>{};
     for (int d = 0; d < D; ++d) x.q[d] = s.q[d][i], x.p[d] = s.p[d][i], x.kq[d] = s.kq[d][i];
     x.z = 0.0, x.mu = 0.0, x.broken = 0.0;
-    if constexpr (carry.z || S::z_feeds_back) x.z = s.z[i];
-    if constexpr (carry.mu) {
+    if constexpr (kWithZ) x.z = s.z[i];
+    if constexpr (kWithMu) {
       x.mu = s.mu[i];
       x.lambda_numerator = s.numerator[i];
       x.lambda_denominator = s.denominator[i];
@@ -208,13 +195,13 @@ class FormulaTracker {
     }
     if constexpr (!S::kz_constant) x.broken = s.broken[i];
     if (o_.window_every_step) {
-      count_[slot] = s.count[slot];
-      nan_[slot] = s.nan[slot];
+      a_.count[slot] = s.count[slot];
+      a_.nan[slot] = s.nan[slot];
       for (int k = 0; k < K; ++k)
-        sum_[k][slot] = s.sum[k][slot], min_[k][slot] = s.min[k][slot],
-        max_[k][slot] = s.max[k][slot];
+        a_.sum[k][slot] = s.sum[k][slot], a_.min[k][slot] = s.min[k][slot],
+        a_.max[k][slot] = s.max[k][slot];
     }
-    std::int64_t n = base_[slot];
+    std::int64_t n = a_.base[slot];
     begin(n);
     for (int step = 0; step < steps; ++step) {
       if constexpr (time_dependent<S>()) x.t = clock_.at(n);
@@ -234,7 +221,8 @@ class FormulaTracker {
   // An adaptive lane i of tile t after an accepted step: whether the condition holds at its
   // own time.
   bool stops_now(const Tile& t, int i) const {
-    if constexpr (M::stop) return M::stops(view(tile_lane(t, i), t.ad.t[i]), params(t, i));
+    if constexpr (M::stop)
+      return M::stops(view(formula_lane<S, carry>(t, i), t.ad.t[i]), params(t, i));
     return false;
   }
 
@@ -268,7 +256,7 @@ class FormulaTracker {
 
   // An adaptive lane in `slot` stopped at time x.t in state x: flagged for the runner's look.
   void hold_stop(int slot, const LaneState<D>& x) {
-    hit_[slot] = 1;
+    a_.hit[slot] = 1;
     held_[slot] = x;
   }
   const LaneState<D>& held_stop(int slot) const { return held_[slot]; }
@@ -310,10 +298,10 @@ class FormulaTracker {
       for (int k = 0; k < observable_count(); ++k) {
         column(o_.final_value[k], b.point)[0] = failed ? nan : v[k];
         if (!o_.window) continue;
-        const bool none = status != LaneStatus::ok || count_[slot] == 0.0 || nan_[slot] != 0.0;
-        column(o_.mean[k], b.point)[0] = none ? nan : sum_[k][slot] / count_[slot];
-        column(o_.min[k], b.point)[0] = none ? nan : min_[k][slot];
-        column(o_.max[k], b.point)[0] = none ? nan : max_[k][slot];
+        const bool none = status != LaneStatus::ok || a_.count[slot] == 0.0 || a_.nan[slot] != 0.0;
+        column(o_.mean[k], b.point)[0] = none ? nan : a_.sum[k][slot] / a_.count[slot];
+        column(o_.min[k], b.point)[0] = none ? nan : a_.min[k][slot];
+        column(o_.max[k], b.point)[0] = none ? nan : a_.max[k][slot];
       }
     }
     const double stop_time = adaptive_method<Method>() ? x.t : clock_.at(b.n);
@@ -347,22 +335,6 @@ class FormulaTracker {
     double sum[K][2 * W], min[K][2 * W], max[K][2 * W], count[2 * W], nan[2 * W];
   };
 
-  // Lane i of the tile as the step sees it (the fields the run carries).
-  static LaneState<D> tile_lane(const Tile& t, int i) {
-    LaneState<D> x;
-    for (int d = 0; d < D; ++d) x.q[d] = t.q[d][i], x.p[d] = t.p[d][i];
-    if constexpr (carry.z || S::z_feeds_back) x.z = t.z[i]; else x.z = 0.0;
-    if constexpr (carry.mu) {
-      x.mu = t.mu[i];
-      x.lambda_numerator = t.lambda_numerator[i];
-      x.lambda_denominator = t.lambda_denominator[i];
-      x.lambda_folds = t.lambda_folds[i];
-    } else {
-      x.mu = 0.0;
-    }
-    return x;
-  }
-
   Params params(const Tile& t, int i) const {
     if constexpr (Uniform) return uniform_;
     else return t.params(i);
@@ -377,15 +349,15 @@ class FormulaTracker {
   }
 
   void add(int slot, const double* v) {
-    double nan_seen = nan_[slot];
+    double nan_seen = a_.nan[slot];
     for (int k = 0; k < observable_count(); ++k) {
-      sum_[k][slot] = sum_[k][slot] + v[k];
-      min_[k][slot] = v[k] < min_[k][slot] ? v[k] : min_[k][slot];
-      max_[k][slot] = v[k] > max_[k][slot] ? v[k] : max_[k][slot];
+      a_.sum[k][slot] = a_.sum[k][slot] + v[k];
+      a_.min[k][slot] = v[k] < a_.min[k][slot] ? v[k] : a_.min[k][slot];
+      a_.max[k][slot] = v[k] > a_.max[k][slot] ? v[k] : a_.max[k][slot];
       nan_seen = v[k] != v[k] ? 1.0 : nan_seen;
     }
-    nan_[slot] = nan_seen;
-    count_[slot] = count_[slot] + 1.0;
+    a_.nan[slot] = nan_seen;
+    a_.count[slot] = a_.count[slot] + 1.0;
   }
 
   double* column(int c, std::int64_t point) {
@@ -399,14 +371,7 @@ class FormulaTracker {
   BlockResults& out_;
   LaneClock clock_;
   Params uniform_;
-  bool window_now_ = false;  // the current advance samples the window (before_advance)
-  alignas(64) std::int64_t base_[2 * W];
-  alignas(64) LookInt hit_[2 * W];
-  alignas(64) double sum_[K][2 * W];
-  alignas(64) double min_[K][2 * W];
-  alignas(64) double max_[K][2 * W];
-  alignas(64) double count_[2 * W];
-  alignas(64) double nan_[2 * W];
+  FormulaSteps<K, W> a_;  // the every-step work's, handed to a step kernel's step loop
   Snapshot snapshot_[M::stop ? 2 : 1];
   LaneState<D> held_[M::stop && adaptive_method<Method>() ? 2 * W : 1];  // hold_stop
 };
