@@ -427,5 +427,62 @@ rc=$?
   ok "another user's link as OUT.h5.partial is refused (exit 1), its target untouched" ||
   bad "another user's link as OUT.h5.partial" "exit $rc"
 
+# Without /proc (a container or chroot that does not mount it) the descriptor a kernel was
+# checked on has no name to load it by, and its path is not loaded instead: whoever can rename a
+# parent of the cache (here a directory of the attacker's that holds the victim's cache) swaps
+# the cache for a link to their copy between the check and the load. Played through the Python
+# module (the program cannot link a kernel without /proc anyway) in a private mount namespace
+# with /proc hidden. A shim on dlopen makes the swap just before the loader opens a path in the
+# cache, as the attacker's loop of renames did once in about 60 runs: refused, saying why, the
+# planted library never loaded.
+module=$(dirname "$bin")/python
+if [[ ! -f $module/contactsweep/__init__.py ]]; then
+  skip "a kernel loaded without /proc" "no Python module beside the program"
+elif ! unshare -m --propagation private true 2>/dev/null; then
+  skip "a kernel loaded without /proc" "no private mount namespace"
+else
+  cat >"$work/swap_at_dlopen.c" <<'EOF'
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+// The attacker's rename wins the race: SWAP_CACHE and their link SWAP_LINK exchanged just
+// before a path inside SWAP_CACHE is loaded.
+void* dlopen(const char* file, int mode) {
+  void* (*real)(const char*, int) = (void* (*)(const char*, int))dlsym(RTLD_NEXT, "dlopen");
+  const char *cache = getenv("SWAP_CACHE"), *link = getenv("SWAP_LINK");
+  if (file && cache && link && strncmp(file, cache, strlen(cache)) == 0 && file[strlen(cache)] == '/')
+    syscall(SYS_renameat2, AT_FDCWD, cache, AT_FDCWD, link, RENAME_EXCHANGE);
+  return real(file, mode);
+}
+EOF
+  gcc -shared -fPIC -o "$work/swap_at_dlopen.so" "$work/swap_at_dlopen.c" -ldl
+  proj=$shared/proj && as cs-sec-attacker mkdir -m 0777 "$proj" && chmod 0777 "$proj"
+  without_proc() {  # without_proc ENV...: the victim's contactsweep.run of k.toml, /proc hidden
+    (cd "$shared" && unshare -m --propagation private sh -c \
+      'mount -t tmpfs none /proc && u=$1 g=$2 && shift 2 && exec setpriv --reuid="$u" --regid="$g" --clear-groups "$@"' \
+      sh "$vuid" "$(id -g cs-sec-victim)" env PYTHONPATH="$module" PYTHONDONTWRITEBYTECODE=1 \
+      CONTACTSWEEP_CACHE="$proj/cache" OMP_NUM_THREADS=1 "$@" /usr/bin/python3 -c \
+      'import contactsweep; contactsweep.run("k.toml", progress=False)')
+  }
+  without_proc 2>stderr  # builds the kernel of this key (the CPU is not known without /proc)
+  as cs-sec-attacker mkdir -m 0755 "$proj/theirs"
+  planted=0
+  for built in "$proj"/cache/kernel-*.so; do
+    [[ -f $built ]] && as cs-sec-attacker cp "$work/evil.so" "$proj/theirs/${built##*/}" && planted=$((planted + 1))
+  done
+  as cs-sec-attacker ln -s theirs "$proj/swapped"
+  without_proc LD_PRELOAD="$work/swap_at_dlopen.so" SWAP_CACHE="$proj/cache" SWAP_LINK="$proj/swapped" 2>stderr
+  rc=$?
+  ((rc != 0 && planted > 0)) && [[ ! -e $shared/PWNED ]] &&
+    grep -q "/proc must be mounted" stderr &&
+    ok "without /proc a kernel is refused, not loaded by its path (a parent swapped meanwhile)" ||
+    bad "a kernel loaded without /proc" "exit $rc$([[ -e $shared/PWNED ]] && echo ', the planted code ran')"
+fi
+
 echo "$passed passed, $failed failed, $skipped skipped"
 ((failed == 0))

@@ -449,10 +449,16 @@ void* load_kernel(const std::string& source, const char* entry_name) {
   if (!dir.is_open() || !library.problem.empty())
     throw std::runtime_error(fmt::format("cannot load the kernel '{}': {}", path,
                                          dir.is_open() ? library.problem : "the cache is missing"));
-  // Loaded through the descriptor that was checked: what is mapped is what was read.
+  // Loaded through the descriptor that was checked: what is mapped is what was read. Without
+  // /proc that descriptor has no name, and the library's path is not loaded instead: someone
+  // who can rename a parent of the cache could swap it between the check and the load.
   const std::string by_descriptor = fmt::format("/proc/self/fd/{}", library.fd);
-  const bool proc = ::access(by_descriptor.c_str(), R_OK) == 0;
-  void* handle = ::dlopen(proc ? by_descriptor.c_str() : path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (::access(by_descriptor.c_str(), R_OK) != 0)
+    throw std::runtime_error(fmt::format(
+        "cannot load the kernel '{}' through the descriptor it was checked on ({}: {}); "
+        "contactsweep loads kernels only that way, so /proc must be mounted",
+        path, by_descriptor, errno_text(errno)));
+  void* handle = ::dlopen(by_descriptor.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr)
     throw std::runtime_error(fmt::format("cannot load the kernel '{}': {}", path, ::dlerror()));
   // A library refused after loading is closed again: the loader would otherwise keep it under
