@@ -349,6 +349,26 @@ rc=$?
   ok "headers another user planted where an installed program's would be are not compiled in (same bits)" ||
   bad "headers planted where an installed program's would be" "exit $rc$([[ -e $shared/PWNED_HEADERS ]] && echo ', the planted code ran')"
 
+# The same place holding another user's link to another installation's headers (root's, of
+# another version): the checks see the link's target alone, which is root's, so these headers
+# were chosen and every kernel's build failed on their hash ("rebuild it"). The link is passed
+# over like a planted directory: a warning names it, the build tree's snapshot is used.
+mkdir -m 1777 "$shared/scratch" && chmod 1777 "$shared/scratch"
+as cs-sec-victim mkdir -p "$shared/scratch/v/src/cs/build" &&
+  as cs-sec-victim cp "$bin" "$shared/scratch/v/src/cs/build/contactsweep"
+mkdir -p "$work/other/share/contactsweep" && cp -r "$(dirname "$bin")/kernel_include" "$work/other/share/contactsweep/include"
+echo 0000000000000000000000000000000000000000000000000000000000000000 >"$work/other/share/contactsweep/include/HEADERS_SHA256"
+chmod -R go-w "$work/other"
+as cs-sec-attacker mkdir -p "$shared/scratch/share/contactsweep"
+as cs-sec-attacker ln -s "$work/other/share/contactsweep/include" "$shared/scratch/share/contactsweep/include"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$work/victim_home/link_cache" \
+  "$shared/scratch/v/src/cs/build/contactsweep" run k.toml -o victim7.h5 --quiet) 2>stderr
+rc=$?
+((rc == 0)) && same ref.h5 "$shared/victim7.h5" &&
+  grep -q "'$shared/scratch/share/contactsweep/include' is a link that user id $auid made" stderr &&
+  ok "another user's link to another installation's headers is passed over, the build's own used (same bits)" ||
+  bad "another user's link to another installation's headers" "exit $rc"
+
 # The build tree's snapshot is named by its absolute path: a program copied elsewhere (~/bin)
 # from a build tree in /tmp that is then removed finds whatever another user makes under that
 # name. Played in a private mount namespace, the planted copy bound over the snapshot's path:

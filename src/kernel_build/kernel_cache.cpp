@@ -97,6 +97,17 @@ std::vector<std::string> host_library() {
   return {code.string()};
 }
 
+// Whether files of `owner` may be compiled into a kernel: root's, ours, and those of the owner
+// of the code file running (whose code we run anyway: a software tree an admin account installed).
+bool trusted_owner(uid_t owner) {
+  static const uid_t code_owner = [] {
+    struct stat status {};
+    const fs::path code = code_file();
+    return !code.empty() && ::stat(code.c_str(), &status) == 0 ? status.st_uid : 0;
+  }();
+  return owner == 0 || owner == ::geteuid() || owner == code_owner;
+}
+
 // Why the headers in `dir` may be another user's, or "" when only root, we and the owner of
 // the code file running (whose code we run anyway: a software tree an admin account installed)
 // can have put them there: `dir`, everything in it and every directory above it that is not
@@ -112,15 +123,11 @@ std::string untrusted_headers(const std::string& dir, bool writable_by_them_alon
   const fs::path code = code_file();
   const fs::path code_dir =
       code.empty() ? fs::path() : fs::weakly_canonical(code.parent_path(), error);
-  struct stat code_status {};
-  const uid_t me = ::geteuid(),
-              code_owner =
-                  !code.empty() && ::stat(code.c_str(), &code_status) == 0 ? code_status.st_uid : 0;
   const auto problem = [&](const fs::path& path, bool above) -> std::string {
     struct stat status {};
     if (::stat(path.c_str(), &status) != 0)
       return fmt::format("'{}' cannot be examined ({})", path.string(), errno_text(errno));
-    if (status.st_uid != 0 && status.st_uid != me && status.st_uid != code_owner)
+    if (!trusted_owner(status.st_uid))
       return fmt::format("'{}' belongs to user id {}", path.string(), status.st_uid);
     if (writable_by_them_alone && (status.st_mode & (S_IWGRP | S_IWOTH)) != 0 &&
         !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
@@ -162,7 +169,21 @@ std::string find_header_directory() {
     const fs::path installed = code.parent_path() / relative;
     if (!fs::exists(installed / "HEADERS_SHA256", error)) continue;
     const fs::path canonical = fs::weakly_canonical(installed, error);
-    if (const std::string why = untrusted_headers(canonical, true); !why.empty()) {
+    // The checks below see the canonical path alone, where a link on the way down from the
+    // code file's directory is already followed: one another user made (/scratch/share ->
+    // another installation's headers) would choose the headers, and fail every kernel's build.
+    std::string why;
+    fs::path way = code.parent_path();
+    for (const fs::path& part : relative) {
+      way /= part;
+      struct stat status {};
+      if (why.empty() && part != ".." && ::lstat(way.c_str(), &status) == 0 &&
+          S_ISLNK(status.st_mode) && !trusted_owner(status.st_uid))
+        why = fmt::format("'{}' is a link that user id {} made", way.lexically_normal().string(),
+                          status.st_uid);
+    }
+    if (why.empty()) why = untrusted_headers(canonical, true);
+    if (!why.empty()) {
       log("contactsweep: warning: not compiling kernels against the headers in '{}': {}, so "
           "another user may have put them there",
           canonical.string(), why);
