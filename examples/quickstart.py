@@ -19,4 +19,7 @@ spec = {"scene": {"name": "double_well", "gamma": 0.1},
 ds = contactsweep.run(spec)
 ds.basin.plot(x="q_0", y="p_0", cmap="coolwarm")
 plt.title("damped double well: which well each (q0, p0) ends in")
-plt.savefig("basins.png", dpi=120)
+# Opened without following a link someone else may have left at the name (a shared directory).
+out = os.open("basins.png", os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o666)
+with os.fdopen(out, "wb") as png:
+    plt.savefig(png, format="png", dpi=120)
