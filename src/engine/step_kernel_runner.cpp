@@ -1,14 +1,10 @@
 #include "engine/step_kernel_runner.hpp"
 
-#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <type_traits>
 
-#include "engine/block_runner.hpp"
-#include "engine/mappers/mapper_choice.hpp"
-#include "engine/proxy_scene.hpp"
+#include "engine/proxy_runner.hpp"
 #include "formula/custom_scene.hpp"
 #include "formula/measure_formulas.hpp"
 #include "numerics/method_list.hpp"
@@ -34,35 +30,6 @@ int coefficient_count(const std::string& method) {
     count = static_cast<int>(sizeof(typename Method::template Coef<double>) / sizeof(double));
   });
   return count;
-}
-
-// The runner reads nothing of the carried state but the tangent (none here): the kernel's step
-// loop carries what the plan asks, so one runner per count of degrees of freedom, parameter
-// layout, whether it maps basins and whether it has measures as formulas. A basin map's runner
-// holds every mapper, the trap with its uses of K in the kernel (engine/proxy_scene.hpp); a
-// runner with formulas, the tracker whose values the kernel computes (ProxyFormulas).
-template <int D, bool Uniform, bool Basins, bool Formulas>
-void run_proxy(const RunPlan& plan, BlockResults& results) {
-  constexpr MapperChoice mappers = Basins ? kEveryMapper : MapperChoice{false, false, false, false};
-  using M = std::conditional_t<Formulas, ProxyFormulas, NoMeasureFormulas>;
-  using Runner = BlockRunner<ProxyScene<D>, ProxyMethod, Carry{false, false}, Uniform, M, mappers,
-                             true>;
-  std::make_unique<Runner>(plan, results)->run();
-}
-
-template <int D, bool Formulas>
-void run_proxy(const RunPlan& plan, BlockResults& results) {
-  const bool uniform = plan.grid.uniform_parameters(), basins = plan.map.basin >= 0;
-  if (uniform && basins) run_proxy<D, true, true, Formulas>(plan, results);
-  else if (uniform) run_proxy<D, true, false, Formulas>(plan, results);
-  else if (basins) run_proxy<D, false, true, Formulas>(plan, results);
-  else run_proxy<D, false, false, Formulas>(plan, results);
-}
-
-template <int D>
-void run_proxy(const RunPlan& plan, BlockResults& results) {
-  if (has_measure_formulas(plan.spec.measures)) run_proxy<D, true>(plan, results);
-  else run_proxy<D, false>(plan, results);
 }
 
 // Measures as formulas a step kernel can hold: as many observables as the runner has room for.
@@ -117,13 +84,12 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
 
 void run_on_step_kernel(const RunPlan& plan, BlockResults& results) {
   const BoundStepKernel bound(*plan.step_kernel, static_cast<int>(plan.scene.parameters.size()));
-  switch (plan.scene.dof) {
-    case 1: return run_proxy<1>(plan, results);
-    case 2: return run_proxy<2>(plan, results);
-    case 3: return run_proxy<3>(plan, results);
-    default: throw std::logic_error("no step-kernel runner for " + std::to_string(plan.scene.dof) +
-                                    " degrees of freedom");
-  }
+  if (has_measure_formulas(plan.spec.measures)) run_proxy_with_formulas(plan, results);
+  else run_proxy_without_formulas(plan, results);
+}
+
+void run_proxy_without_formulas(const RunPlan& plan, BlockResults& results) {
+  run_proxy<false>(plan, results);
 }
 
 }  // namespace cs
