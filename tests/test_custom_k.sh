@@ -143,7 +143,11 @@ for v in a:
 assert 'basin' in a and compared >= 4, sorted(a)
 "
 }
-trap_sources() { grep -l 'true>(method)' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l; }
+# A step kernel's source with the trap's entries: its step_kernel_of's fourth argument
+# (kernel_build/kernel_source.cpp), the line before the measures' struct.
+trap_sources() {
+  grep -lE '^ +true, cs::[A-Za-z]+>\(method\)' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l
+}
 for with_trap in 0 1; do
   options=("exact_trap = false" "")
   verdicts=("not used: measures.basin.exact_trap = false" "used")
