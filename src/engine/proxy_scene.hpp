@@ -169,6 +169,8 @@ struct ProxyFormulas {
   static int run_time_observables() { return step_kernel().formulas.observables; }
   static bool run_time_stop() { return step_kernel().formulas.stop; }
   static bool run_time_reads_lambda() { return step_kernel().formulas.reads_lambda; }
+  static bool run_time_carries_z() { return step_kernel().carries_z; }
+  static bool run_time_carries_mu() { return step_kernel().carries_mu; }
   template <int D, class C>
   static void observe(const ObservableView<D>& x, const C& c, double* v) {
     step_kernel().formulas.observe(x.q, x.p, x.z, x.t, x.lambda, c.v, v);

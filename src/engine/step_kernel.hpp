@@ -92,6 +92,7 @@ struct StepKernel {
   std::size_t tile_bytes;
   bool kz_constant;     // K_z constant: a lane's breakdown flag is never set
   bool time_dependent;  // K reads t: the step loop reads the lanes' step counts
+  bool carries_z, carries_mu;  // the fields of a lane its step writes besides q, p (and broken)
   // The tile (LaneTile of the program's proxy scene) `steps` steps on; parameters and
   // coefficients from the tile's lanes when the kernel was built for per-lane parameters.
   void (*advance)(void* tile, int steps, const double* uniform_params, const double* uniform_coef,

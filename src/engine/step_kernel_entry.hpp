@@ -211,6 +211,7 @@ struct StepKernelOf : StepKernelScene<S> {
   static constexpr StepKernel table{kStepKernelAbi, Method::description.name.data(), D,
                                     kParamFields, kCoefFields, sizeof(Tile),
                                     S::kz_constant, time_dependent<S>(),
+                                    carry.z || S::z_feeds_back, carry.mu,
                                     &advance, advance_watched_entry(), step_entry(),
                                     &start, &coefficients, &breaks_down,
                                     &SceneParts::defined_at, &SceneParts::K, &SceneParts::log_lambda,

@@ -76,7 +76,7 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
       kernel.coef_fields != coefficient_count(plan.spec.method) ||
       kernel.tile_bytes != proxy_tile_bytes(plan.scene.dof) ||
       kernel.trap.used != uses_energy_trap(plan) ||
-      !formulas_match(kernel.formulas, plan) ||
+      kernel.carries_mu != plan.carry.mu || !formulas_match(kernel.formulas, plan) ||
       (kernel.advance_watched != nullptr) != has_measure_formulas(plan.spec.measures) ||
       (kernel.step != nullptr) != plan.observe.stop)
     throw std::logic_error("the step kernel of scene.K does not match this program's runner");

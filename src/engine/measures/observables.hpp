@@ -46,14 +46,12 @@ namespace cs {
 // the kernel's: their values one lane at a time through its table, and the every-step work inside
 // its step loop (advance_in_kernel), which this tracker hands its FormulaSteps. The kernel
 // carries what the run's formulas read; the runner's own carried state says nothing of it, so a
-// proxy's snapshot and rerun keep every field.
+// proxy's snapshot and rerun keep the fields the kernel says it carries.
 template <Scene S, class Method, Carry carry, bool Uniform, class M, int W>
 class FormulaTracker {
   static constexpr int D = S::dof;
   static constexpr int K = M::observables > 0 ? M::observables : 1;
   static constexpr bool kInKernel = requires { M::is_proxy; };
-  static constexpr bool kWithZ = carry.z || S::z_feeds_back || kInKernel;
-  static constexpr bool kWithMu = carry.mu || kInKernel;
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
@@ -76,6 +74,19 @@ class FormulaTracker {
     if constexpr (requires { M::run_time_observables(); }) return M::run_time_observables();
     else return M::observables;
   }
+  // The fields a lane's step writes: the run's carried state and scene's, or a step kernel's.
+  static bool with_z() {
+    if constexpr (kInKernel) return M::run_time_carries_z();
+    else return carry.z || S::z_feeds_back;
+  }
+  static bool with_mu() {
+    if constexpr (kInKernel) return M::run_time_carries_mu();
+    else return carry.mu;
+  }
+  static bool may_break() {
+    if constexpr (requires { S::run_time_traits(); }) return !S::run_time_traits().kz_constant;
+    else return !S::kz_constant;
+  }
   // Whether the run has a stop: M's, or a step kernel's.
   static bool has_stop() {
     if constexpr (requires { M::run_time_stop(); }) return M::run_time_stop();
@@ -86,14 +97,14 @@ class FormulaTracker {
     a_.hit[slot] = 0;
     a_.count[slot] = 0.0;
     a_.nan[slot] = 0.0;
-    for (int k = 0; k < K; ++k)
+    for (int k = 0; k < observable_count(); ++k)
       a_.sum[k][slot] = 0.0, a_.min[k][slot] = INFINITY, a_.max[k][slot] = -INFINITY;
   }
 
   void move(int from, int to) {
     a_.count[to] = a_.count[from];
     a_.nan[to] = a_.nan[from];
-    for (int k = 0; k < K; ++k)
+    for (int k = 0; k < observable_count(); ++k)
       a_.sum[k][to] = a_.sum[k][from], a_.min[k][to] = a_.min[k][from],
       a_.max[k][to] = a_.max[k][from];
     a_.hit[to] = 0;
@@ -107,6 +118,10 @@ class FormulaTracker {
     if constexpr (M::stop) return M::stops(v, c);
     return false;
   }
+
+  // Whether the run's formulas have work after every step (the stop's condition, a window
+  // without trajectory): before_advance reads the lanes' step counts only then.
+  bool after_every_step() const { return has_stop() || o_.window_every_step; }
 
   // Before a tile is advanced by `steps`: whether its steps need after_step (the stop's
   // condition; the window's samples when the chunk can reach the window), and if so the lanes'
@@ -131,18 +146,20 @@ class FormulaTracker {
     std::memcpy(s.q, t.q, sizeof s.q);
     std::memcpy(s.p, t.p, sizeof s.p);
     std::memcpy(s.kq, t.kq, sizeof s.kq);
-    if constexpr (kWithZ) std::memcpy(s.z, t.z, sizeof s.z);
-    if constexpr (kWithMu) {
+    if (with_z()) std::memcpy(s.z, t.z, sizeof s.z);
+    if (with_mu()) {
       std::memcpy(s.mu, t.mu, sizeof s.mu);
       std::memcpy(s.numerator, t.lambda_numerator, sizeof s.numerator);
       std::memcpy(s.denominator, t.lambda_denominator, sizeof s.denominator);
       std::memcpy(s.folds, t.lambda_folds, sizeof s.folds);
     }
-    if constexpr (!S::kz_constant) std::memcpy(s.broken, t.broken, sizeof s.broken);
+    if (may_break()) std::memcpy(s.broken, t.broken, sizeof s.broken);
     if (o_.window_every_step) {
-      std::memcpy(s.sum, &a_.sum[0][0], sizeof s.sum);  // both tiles' slots: simple and small
-      std::memcpy(s.min, &a_.min[0][0], sizeof s.min);
-      std::memcpy(s.max, &a_.max[0][0], sizeof s.max);
+      // Both tiles' slots of the run's observables (a step kernel's runner has room for more).
+      const std::size_t rows = static_cast<std::size_t>(observable_count()) * sizeof s.sum[0];
+      std::memcpy(s.sum, &a_.sum[0][0], rows);
+      std::memcpy(s.min, &a_.min[0][0], rows);
+      std::memcpy(s.max, &a_.max[0][0], rows);
       std::memcpy(s.count, a_.count, sizeof s.count);
       std::memcpy(s.nan, a_.nan, sizeof s.nan);
     }
@@ -166,7 +183,8 @@ class FormulaTracker {
   // The main tile's lanes that stopped during the chunk need a look.
   void screen(LookInt* attention) const {
     if constexpr (M::stop)
-      for (int i = 0; i < W; ++i) attention[i] |= a_.hit[i];
+      if (has_stop())
+        for (int i = 0; i < W; ++i) attention[i] |= a_.hit[i];
   }
 
   bool hit(int slot) const {
@@ -186,18 +204,18 @@ class FormulaTracker {
     x = LaneState<D>{};
     for (int d = 0; d < D; ++d) x.q[d] = s.q[d][i], x.p[d] = s.p[d][i], x.kq[d] = s.kq[d][i];
     x.z = 0.0, x.mu = 0.0, x.broken = 0.0;
-    if constexpr (kWithZ) x.z = s.z[i];
-    if constexpr (kWithMu) {
+    if (with_z()) x.z = s.z[i];
+    if (with_mu()) {
       x.mu = s.mu[i];
       x.lambda_numerator = s.numerator[i];
       x.lambda_denominator = s.denominator[i];
       x.lambda_folds = s.folds[i];
     }
-    if constexpr (!S::kz_constant) x.broken = s.broken[i];
+    if (may_break()) x.broken = s.broken[i];
     if (o_.window_every_step) {
       a_.count[slot] = s.count[slot];
       a_.nan[slot] = s.nan[slot];
-      for (int k = 0; k < K; ++k)
+      for (int k = 0; k < observable_count(); ++k)
         a_.sum[k][slot] = s.sum[k][slot], a_.min[k][slot] = s.min[k][slot],
         a_.max[k][slot] = s.max[k][slot];
     }
