@@ -111,6 +111,45 @@ final_state = true
     assert ds.attrs["K"] == spec["scene"]["K"]
 
 
+WELLS_MAP = """\
+[scene]
+K = "{K}"
+a = 1.0
+gamma = 0.5
+[integrator]
+method = "rk4"
+h = 0.02
+t_end = 20.0
+[grid]
+q_0 = {{ from = -3.0, to = 3.0, n = 24 }}
+p_0 = {{ from = -1.0, to = 1.0, n = 8 }}
+[measures]
+basin = {{}}
+final_state = true
+"""
+
+
+@pytest.mark.slow
+def test_two_ks_in_one_process_keep_their_own_wells(tmp_path):
+    """The energy trap keeps each parameter set's wells for the process's life (EnergyTrap::
+    wells_for), keyed by the K too (a step kernel's table): two K's with the same parameters and
+    grid, one after the other in one process, each get their own wells. The second's map is the
+    CLI's file bit for bit, and its attractors sit at its own minima q = ±2a, not the first's ±a."""
+    first = WELLS_MAP.format(K="p^2/2 + (q^2 - a^2)^2/2 - gamma*z")
+    second = WELLS_MAP.format(K="p^2/2 + (q^2 - 4*a^2)^2/2 - gamma*z")
+    (tmp_path / "second.toml").write_text(second)
+    cli = cli_run(tmp_path / "second.toml", tmp_path / "cli.h5")
+    assert cli.returncode == 0, cli.stderr
+    ds_first = contactsweep.run(first, threads=1, progress=False)
+    assert ds_first.attrs["energy_trap"] == "used"
+    ds = contactsweep.run(second, threads=1, progress=False)
+    assert ds.attrs["energy_trap"] == "used"
+    assert_dataset_is_file(ds, tmp_path / "cli.h5")
+    tolerance = 1e-3  # measures.basin.tolerance's default: how near its attractor a lane settles
+    assert sorted(ds.attractor_q.values.tolist()) == pytest.approx([-2.0, 2.0], abs=tolerance)
+    assert sorted(ds_first.attractor_q.values.tolist()) == pytest.approx([-1.0, 1.0], abs=tolerance)
+
+
 def test_toml_of_a_dict_reads_back_the_same():
     spec = {"title": "a \"b\"\n\\ c\x7f é", "n": 3, "on": False,
             "s": {"x": 0.1, "tiny": 5e-324, "big": -1.7976931348623157e308, "inf": math.inf,
