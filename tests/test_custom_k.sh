@@ -141,7 +141,7 @@ assert a.attrs['energy_trap'] == b.attrs['energy_trap'] == '$3', (a.attrs['energ
 assert set(a) == set(b), (sorted(a), sorted(b))
 compared = 0
 for v in a:
-    if v.startswith('attractor'):
+    if v.startswith('attractor') or v.startswith('branch_'):
         continue
     x, y = a[v][...], b[v][...]
     assert x.dtype == y.dtype and x.shape == y.shape, v
@@ -178,6 +178,21 @@ for with_trap in 0 1; do
       test "$(step_sources)" = $((steps_before + 1)) -a "$(trap_sources)" = $((traps_before + with_trap))
   else bad "basin map (energy trap: $verdict) runs"; fi
 done
+# The same over a parameter axis (a first: continuation keeps two labels): each lane its own
+# wells, and the trap's screen takes each lane's E from its own parameters (the step kernel's
+# tile_energy with per-lane fields; with lane 0's parameters for every lane it went unseen, the
+# settle times later, the labels kept). branch_q/branch_p are the attractors' description too.
+for spec in builtin as_k; do
+  sed -e "s|^final_state = true|basin = {}|" -e 's/^method = .*/method = "rk4"/' \
+      -e 's|^\[grid\]|[grid]\na = { values = [0.9, 1.1] }|' $spec.toml >"${spec}_over_a.toml"
+done
+steps_before=$(step_sources) traps_before=$(trap_sources)
+if run builtin_over_a.toml -o b_map_a.h5 2>"$work/stderr" && run as_k_over_a.toml -o k_map_a.h5 2>"$work/stderr"; then
+  check "a basin map over a (energy trap: used, per-lane parameters), K on a step kernel, equals the built-in bit for bit" \
+    same_map b_map_a.h5 k_map_a.h5 used 3
+  check "the basin map over a built a step kernel with the trap's entries" \
+    test "$(step_sources)" = $((steps_before + 1)) -a "$(trap_sources)" = $((traps_before + 1))
+else bad "basin map over a runs"; fi
 # A K of more degrees of freedom than the program's runners (kStepKernelMaxDof = 3) builds a
 # whole kernel, and agrees with the step kernel of its one-dof part: with K_z constant and no z in
 # the forces, each (q_i, p_i) takes the same operations as a one-dof K's, bit for bit.
