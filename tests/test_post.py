@@ -211,6 +211,16 @@ def test_planted_links():
         mode = os.umask(0o022)
         os.umask(mode)
         assert (outdir / "fig1.png").stat().st_mode & 0o777 == 0o666 & ~mode  # as a file created by name
+        # ... under any umask, not only the usual 022 (whose 0644 a fixed mode would also give):
+        # a group project's 002 keeps the output group-writable, a private 077 keeps it private.
+        for mask, expected in ((0o002, 0o664), (0o077, 0o600), (0o022, 0o644)):
+            previous = os.umask(mask)
+            try:
+                safe_output.write_text(outdir / f"mode_{mask:03o}.txt", "text")
+            finally:
+                os.umask(previous)
+            got = (outdir / f"mode_{mask:03o}.txt").stat().st_mode & 0o777
+            assert got == expected, (oct(mask), oct(got))
         assert not list(outdir.glob(".*")), list(outdir.glob(".*"))  # no temporary file left
 
         # A directory at an output's name: refused, named, left as it was.
