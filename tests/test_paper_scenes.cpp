@@ -83,5 +83,40 @@ TEST(PaperScenes, CoupledOscillatorsLockWithCouplingOnly) {
   EXPECT_GT(r["sync_amplitude"][1], 0.3);  // the lock is measured on a living motion
 }
 
+// The phases' ω are each lane's own (the scene's natural_frequencies at the lane's parameters,
+// taken once at its load): over a grid of ω₁² the uncoupled, undamped oscillator 1 moves on
+// the ellipse q₁² + (p₁/ω₁)² = 1 (from q₁ = 1, p₁ = 0), so its phase amplitude is 1 in every
+// lane. RK4 at ω₁h ≤ 0.018 loses |R(iω₁h)| − 1 ≈ (ω₁h)⁶/144 < 3e-13 per step, < 3e-9 over the
+// 10⁴ steps; oscillator 2's amplitude 2 keeps min(a₁, a₂) = a₁. With another lane's ω₁ the
+// amplitude swings between 1 and ω₁/ω: at t = 100 it was 0.645 for ω₁² = 0.5 with the spec's
+// 1.2. The frequency ratio is ω₁/ω₂ within a phase error < π/4 at the window's ends (0.02).
+TEST(PaperScenes, SyncPhasesUseEachLanesOwnFrequencies) {
+  auto r = test::run_in_memory(R"(
+    [scene]
+    name = "coupled_oscillators"
+    omega1_sq = 1.2
+    g = 0.0
+    gamma = 0.0
+    [initial]
+    q1 = 1.0
+    p1 = 0.0
+    q2 = 2.0
+    p2 = 0.0
+    [integrator]
+    method = "rk4"
+    h = 0.01
+    t_end = 100.0
+    [grid]
+    omega1_sq = { values = [0.5, 1.2, 3.0] }
+    [measures]
+    sync = { window = [50.0, 100.0] })");
+  const double omega1_sq[] = {0.5, 1.2, 3.0};
+  for (int i = 0; i < 3; ++i) {
+    SCOPED_TRACE(omega1_sq[i]);
+    EXPECT_NEAR(r["sync_amplitude"][i], 1.0, 1e-8);
+    EXPECT_NEAR(r["sync_freq_ratio"][i], std::sqrt(omega1_sq[i] / 0.8), 0.02);
+  }
+}
+
 }  // namespace
 }  // namespace cs
