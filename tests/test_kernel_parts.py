@@ -196,4 +196,14 @@ if final_only and sampled:
     same_final_state("K with dop853: the same final states with the dense output and without",
                      final_only, sampled)
 
+# A K in the energy trap's form (Σp²/2 + V(q) + k·z, no t) has fixed points alone (LaSalle), so
+# its basin map leaves recurrences off by default (recurrence_plan.cpp, fixed_points_only), as
+# the built-in double well's does: dop853's whole kernel holds the trap and its wells, no
+# recurrences (recurrences on for such a K went unseen by every run's results).
+mapped_dop853, found = run_in_fresh_cache(DOP853.replace("final_state = true", "basin = {}"),
+                                          "well_k_dop853_map")
+runner = [m for m in found.values() if m]
+check("K in the trap's form with dop853, a basin map: the trap and its wells compiled in, no "
+      "recurrences (fixed points only)", runner == [{"EnergyTrap<", "WellFinder<"}], f"{found}")
+
 runs.finish()
