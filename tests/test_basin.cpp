@@ -4,6 +4,7 @@
 // (physics/energy_wells.hpp) serves it, and its label rule gives −1/+1.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 #include <string>
@@ -123,6 +124,54 @@ TEST(BasinTrap, EarlyStopLabelsEqualLabelsAtTheEndOnAWholeMap) {
   // Nearly every cell settles well before t = 100 at γ = 0.1; a test where none did would
   // compare nothing.
   EXPECT_GT(static_cast<double>(decided) / a.size(), 0.99);
+}
+
+// The trap with per-lane parameters (a grid axis over a, the last axis: a alternates from lane
+// to lane) decides each lane as a run of that lane's parameters alone does (one parameter set:
+// the uniform path): the trap looks at a lane only when the screen flags it (no looks on a
+// schedule), inside that lane's own wells' box and below its own level. Wells at ±0.6 and
+// ±1.6 have boxes and levels of their own. The same bits, cell for cell, in settle_time,
+// status and the final state, and the same cells decided: a lane's result depends on its own
+// start and parameters alone. t_end = 10: only the trap settles lanes this early.
+TEST(BasinTrap, PerLaneParametersDecideAsEachParameterSetAlone) {
+  const std::string map = R"(
+  [scene]
+  name = "double_well"
+  [integrator]
+  t_end = 10.0
+  [grid]
+  q_0 = { from = -2.5, to = 2.5, n = 24 }
+  p_0 = { from = -1.0, to = 1.0, n = 8 }
+  a = { values = [1.6, 0.6] }
+  [measures]
+  basin = {}
+  final_state = { vars = ["q", "p"] }
+  )";
+  const double a[] = {1.6, 0.6};
+  auto both = test::run_in_memory(map);
+  const std::size_t cells = 24 * 8;
+  int decided[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    auto alone = test::run_in_memory(map, {k == 0 ? "grid.a={values=[1.6]}" : "grid.a={values=[0.6]}"});
+    // The labels are numbered over each run's own table (four attractors here, two alone):
+    // compared as decided or not; where and when a lane settled, bit for bit.
+    for (const char* name : {"basin", "settle_time", "status", "final_q", "final_p"}) {
+      ASSERT_EQ(alone[name].size(), cells) << name;
+      const bool label = std::string(name) == "basin";
+      for (std::size_t i = 0; i < cells; ++i) {
+        double x = both[name][2 * i + k], y = alone[name][i];
+        if (label) x = x != 0.0, y = y != 0.0;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(x), std::bit_cast<std::uint64_t>(y))
+            << name << ", a = " << a[k] << ", cell " << i << ": " << x << " vs " << y;
+      }
+    }
+    for (std::size_t i = 0; i < cells; ++i)
+      decided[k] += alone["basin"][i] != 0 && alone["settle_time"][i] > 0.0;
+  }
+  // Lanes the trap settled after t = 0 (on a screen's flag) at each a (48 and 20); a map where
+  // none did would compare nothing the flag decides.
+  EXPECT_GT(decided[0], 10);
+  EXPECT_GT(decided[1], 10);
 }
 
 // The trap's decision at t = 0, cell by cell: a state whose E is below the level
