@@ -178,6 +178,20 @@ for with_trap in 0 1; do
       test "$(step_sources)" = $((steps_before + 1)) -a "$(trap_sources)" = $((traps_before + with_trap))
   else bad "basin map (energy trap: $verdict) runs"; fi
 done
+# A map that does not span the wells but the saddle (|q0| <= 0.3, |p0| <= 2): the trap's box
+# grows until V on its boundary is above the lanes' largest E0 (confining_box, E0 from the
+# program through the step kernel's table), and holds both wells; the same step kernel as the
+# map above (no compile). With E0 and h swapped on the way to the kernel the box stayed small
+# and the trap settled none of the 82 lanes the built-in's settles by t = 10.
+for spec in builtin as_k; do
+  sed -e "s|^final_state = true|basin = {}|" -e 's/^method = .*/method = "rk4"/' \
+      -e 's|^q_0 = .*|q_0 = { from = -0.3, to = 0.3, n = 16 }|' \
+      -e 's|^p_0 = .*|p_0 = { from = -2.0, to = 2.0, n = 8 }|' $spec.toml >"${spec}_saddle.toml"
+done
+if run builtin_saddle.toml -o b_map_saddle.h5 2>"$work/stderr" && run as_k_saddle.toml -o k_map_saddle.h5 2>"$work/stderr"; then
+  check "a basin map around the saddle (the trap's box grown to hold E0), K on a step kernel, equals the built-in bit for bit" \
+    same_map b_map_saddle.h5 k_map_saddle.h5 used 3
+else bad "basin map around the saddle runs"; fi
 # The same over a parameter axis (a first: continuation keeps two labels): each lane its own
 # wells, and the trap's screen takes each lane's E from its own parameters (the step kernel's
 # tile_energy with per-lane fields; with lane 0's parameters for every lane it went unseen, the
