@@ -160,7 +160,7 @@ assert 'basin' in a and compared >= 4, sorted(a)
 # A step kernel's source with the trap's entries: its step_kernel_of's fourth argument
 # (kernel_build/kernel_source.cpp), the line before the measures' struct.
 trap_sources() {
-  grep -lE '^ +true, cs::[A-Za-z]+>\(method\)' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l
+  grep -lE '^ +true, cs::[A-Za-z0-9]+>\(method\)' $(find "$CONTACTSWEEP_CACHE" -name 'kernel-*.cpp') | wc -l
 }
 for with_trap in 0 1; do
   options=("exact_trap = false" "")

@@ -79,7 +79,7 @@ void check_step_kernel(const StepKernel& kernel, const RunPlan& plan) {
       kernel.carries_mu != plan.carry.mu || !formulas_match(kernel.formulas, plan) ||
       (kernel.advance_watched != nullptr) != has_measure_formulas(plan.spec.measures) ||
       (kernel.step != nullptr) != plan.observe.stop)
-    throw std::logic_error("the step kernel of scene.K does not match this program's runner");
+    throw std::logic_error("the step kernel of the run's scene does not match this program's runner");
 }
 
 void run_on_step_kernel(const RunPlan& plan, BlockResults& results) {

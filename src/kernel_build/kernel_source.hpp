@@ -22,13 +22,20 @@ inline constexpr const char* kOrbitEntry = "contactsweep_attractor_orbit";
 // A C string constant each kernel exports: the cache key it was built for (kernel_cache.hpp).
 inline constexpr const char* kKernelKeySymbol = "contactsweep_kernel_key";
 
+// The run's observe and stop (formula/measure_formulas.hpp, measures_source): the C++ of a
+// struct and its name, kMeasuresStruct followed by the SHA-256 of the text (sweep.cpp). A process
+// that loads several kernels (the Python module) must not have two different formulas under one
+// name: template instances over the struct (a step kernel's tables) are GNU unique symbols, which
+// the loader merges across libraries even under RTLD_LOCAL. An empty source: none.
+struct MeasuresCode {
+  std::string source, struct_name;
+};
+
 struct KernelChoice {
   std::string method;  // a name from method_catalog()
   Carry carry;
   bool uniform_parameters;
-  // The run's observe and stop as a struct kMeasuresStruct (formula/measure_formulas.hpp,
-  // measures_source); empty: none.
-  std::string measures = {};
+  MeasuresCode measures = {};  // the run's observe and stop
   // The basin mappers the runs need (mappers_of): only those are compiled.
   MapperChoice mappers = kEveryMapper;
   // An adaptive method's dense output for samples inside steps (samples_inside_steps); true for
@@ -55,11 +62,10 @@ std::string kernel_source(const std::string& scene_header, const std::string& sc
 // the step loop and per-lane functions the program's runner calls (runs_on_step_kernel), for
 // every fixed-step method: the text, and so the kernel's key, names no method. With the energy
 // trap's entries for a basin map that uses it (StepKernelTrap), and the run's measures as
-// formulas where `measures` (measures_source's struct kMeasuresStruct) is not empty
-// (StepKernelFormulas).
+// formulas where they are not empty (StepKernelFormulas).
 std::string step_kernel_source(const std::string& scene_header, const std::string& scene_struct,
                                Carry carry, bool uniform_parameters, bool energy_trap,
-                               const std::string& measures = {});
+                               const MeasuresCode& measures = {});
 
 // The orbit kernel's complete source text (entry point kOrbitEntry).
 std::string orbit_kernel_source(const std::string& scene_header, const std::string& scene_struct,

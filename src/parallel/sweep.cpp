@@ -30,6 +30,7 @@
 #include "io/memory_budget.hpp"
 #include "kernel_build/kernel_cache.hpp"
 #include "kernel_build/kernel_source.hpp"
+#include "kernel_build/sha256.hpp"
 #include "formula/measure_formulas.hpp"
 #include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
@@ -301,6 +302,15 @@ void stop_if_signalled(const Journal& journal, std::int64_t local_blocks, const 
                           blocks, journal.directory()));
 }
 
+// The run's measures as formulas (measures_source) under a name of their own (MeasuresCode):
+// kMeasuresStruct and the SHA-256 of their text.
+MeasuresCode measures_code(const RunPlan& plan) {
+  if (!has_measure_formulas(plan.spec.measures)) return {};
+  const std::string text = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  const std::string name = kMeasuresStruct + sha256_hex(text, 32);
+  return {measures_source(plan.spec.measures, plan.scene, name), name};
+}
+
 // The scene's header and struct for a kernel built at run time: scene.K's generated one, or a
 // built-in scene's (its header in the snapshot).
 SceneSource scene_source(const RunPlan& plan) {
@@ -349,8 +359,7 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
     choice.mappers = choice.mappers | mappers_of(*slice);
     choice.dense_output = choice.dense_output || samples_inside_steps(*slice);
   }
-  if (has_measure_formulas(plan.spec.measures))
-    choice.measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  choice.measures = measures_code(plan);
   const std::string what = plan.spec.custom       ? "scene.K"
                            : plan.carry.tangent   ? "scene " + plan.scene.name + " with lyapunov"
                                                   : "scene " + plan.scene.name + " with its measures";
@@ -366,9 +375,7 @@ KernelFn custom_kernel(const RunPlan& plan, const std::vector<std::unique_ptr<Ru
 // custom_kernel, with a basin map's orbit kernel beside it.
 const StepKernel* step_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm comm) {
   const SceneSource scene = scene_source(plan);
-  std::string measures;
-  if (has_measure_formulas(plan.spec.measures))
-    measures = measures_source(plan.spec.measures, plan.scene, kMeasuresStruct);
+  const MeasuresCode measures = measures_code(plan);
   const std::string what =
       plan.spec.custom ? "scene.K" : "scene " + plan.scene.name + " with its measures";
   void* entry = kernel_with_orbit(

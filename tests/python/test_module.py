@@ -150,6 +150,41 @@ def test_two_ks_in_one_process_keep_their_own_wells(tmp_path):
     assert sorted(ds_first.attractor_q.values.tolist()) == pytest.approx([-1.0, 1.0], abs=tolerance)
 
 
+FORMULAS_RUN = """[scene]
+K = "p^2/2 + q^2/2 - gamma*z"
+gamma = 0.1
+[integrator]
+h = 0.01
+t_end = 2.0
+[grid]
+q_0 = {{ values = [0.5, 1.0] }}
+[measures]
+final_state = {{}}
+{formulas}
+"""
+
+
+def test_one_k_with_other_formulas_in_one_process_gets_its_own(tmp_path):
+    """Each run's formulas are its own when several runs of one K load their kernels into one
+    process: the kernels' tables were GNU unique symbols named by K and the formulas' fixed
+    struct name, which the loader merges across libraries, so a second run of the same K took
+    the first one's formulas (final_E of the first E, every stop at t = 0). Each run here is the
+    CLI's file bit for bit."""
+    runs = ['observe = { E = "p^2/2 + q^2/2" }\nstop = { when = "t < 1" }',
+            'observe = { E = "q" }\nstop = { when = "t > 1.5" }',
+            'observe = { E = "q" }\nstop = { when = "t > 1.5", label = "q + 2" }']
+    for k, formulas in enumerate(runs):
+        spec = FORMULAS_RUN.format(formulas=formulas)
+        (tmp_path / f"{k}.toml").write_text(spec)
+        cli = cli_run(tmp_path / f"{k}.toml", tmp_path / f"{k}.h5")
+        assert cli.returncode == 0, cli.stderr
+        assert_dataset_is_file(contactsweep.run(spec, threads=1, progress=False),
+                               tmp_path / f"{k}.h5")
+    ds = contactsweep.run(FORMULAS_RUN.format(formulas=runs[1]), threads=1, progress=False)
+    assert ds.stop_time.values.tolist() == pytest.approx([1.51, 1.51], abs=1e-12)
+    assert ds.final_E.values.tolist() == ds.final_q.values.tolist()
+
+
 def test_toml_of_a_dict_reads_back_the_same():
     spec = {"title": "a \"b\"\n\\ c\x7f é", "n": 3, "on": False,
             "s": {"x": 0.1, "tiny": 5e-324, "big": -1.7976931348623157e308, "inf": math.inf,
