@@ -273,8 +273,12 @@ k_expect "observe: syntax error, with its column" "measures.observe.E: 'p^2 + * 
 k_expect "observe_window outside the run" \
   "measures.observe_window = { from = 0.5, to = 2 }: expected 0 <= from <= to <= t_end = 1" \
   'K = "p^2/2 + q^2/2"' '' '' $'observe = { E = "p^2" }\nobserve_window = { from = 0.5, to = 2.0 }'
-k_expect "observe_window holding no sample" "holds no sample" \
+k_expect "observe_window holding no sample" \
+  "holds no sample: samples come every 0.5 time units (trajectory.every = 50 steps of h = 0.01)" \
   'K = "p^2/2 + q^2/2"' '' '' $'trajectory = { every = 50 }\nobserve = { E = "p^2" }\nobserve_window = { from = 0.6, to = 0.9 }'
+k_expect "observe_window between two steps, no trajectory" \
+  "holds no sample: samples come every 0.01 time units (every step of h = 0.01, no trajectory)" \
+  'K = "p^2/2 + q^2/2"' '' '' $'observe = { E = "p^2" }\nobserve_window = { from = 0.601, to = 0.605 }'
 k_expect "stop: not a comparison" "measures.stop.when: 'q^2 + p^2' at column 1 is not a comparison" \
   'K = "p^2/2 + q^2/2"' '' '' 'stop = { when = "q^2 + p^2" }'
 k_expect "stop: equality" "measures.stop.when: '==' at column 3: a condition compares with <, <=, > or >=" \

@@ -45,8 +45,11 @@ void plan_observables(RunPlan& plan) {
       if (o.window_last < o.window_first)
         throw InputError(fmt::format(
             "measures.observe_window = {{ from = {}, to = {} }} holds no sample: samples come "
-            "every {} time units (trajectory.every = {} steps of h = {}); widen the window",
-            from, to, static_cast<double>(every) * spec.h, every, spec.h));
+            "every {} time units ({}); widen the window",
+            from, to, static_cast<double>(every) * spec.h,
+            o.window_every_step
+                ? fmt::format("every step of h = {}, no trajectory", spec.h)
+                : fmt::format("trajectory.every = {} steps of h = {}", every, spec.h)));
       const std::string window = fmt::format(" over t in [{}, {}] ({} samples at most)", from, to,
                                              (o.window_last - o.window_first) / every + 1);
       for (const auto& [name, text] : m.observe->formulas) {
