@@ -33,6 +33,7 @@
 #include "engine/measures/lyapunov_lanes.hpp"
 #include "engine/measures/observables.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/run_traits.hpp"
 #include "physics/partials.hpp"
 #include "physics/scene_bounds.hpp"
 
@@ -233,7 +234,7 @@ class BlockRunner {
       }
     } else if constexpr (kFormulas) {
       if (formulas_.before_advance(t, which, base, steps)) {
-        if constexpr (requires { Formulas::is_proxy; })  // a step kernel's loop does the work
+        if constexpr (FormulaTraits<Formulas>::in_step_kernel)  // its step loop does the work
           formulas_.advance_in_kernel(t, which, steps, uniform_params_, uniform_coef_);
         else
           advance<S, Method, carry, Uniform>(t, steps, uniform_params_, uniform_coef_,
@@ -306,8 +307,9 @@ class BlockRunner {
   // picks its own, since checking what a scene never sets cost a K's map 9 %.
   template <bool kFlags>
   void screen_for_scene() {
-    if constexpr (requires { S::run_time_traits(); }) {
-      const auto [kz_constant, reads_time] = S::run_time_traits();
+    using Traits = SceneTraits<S, carry>;
+    if constexpr (Traits::at_run_time) {
+      const bool kz_constant = Traits::kz_constant(), reads_time = Traits::time_dependent();
       if (kz_constant && !reads_time) screen_pass<kFlags, false, false>();
       else if (kz_constant) screen_pass<kFlags, false, true>();
       else if (!reads_time) screen_pass<kFlags, true, false>();

@@ -52,15 +52,17 @@ struct ProxyScene {
   static constexpr int dof = D;
   static constexpr bool is_proxy = true;
   static constexpr bool z_feeds_back = false;  // read by the step loop alone, in the kernel
-  // The traits the runner reads are the kernel's scene's, at run time (run_time_traits); these
-  // are what is right for any scene where it reads them at compile time.
+  // The traits the runner reads are the kernel's scene's, at run time (run_time_traits, read
+  // through engine/run_traits.hpp); these are what is right for any scene where it reads them
+  // at compile time. The fields a lane's step writes are the kernel's too.
   static constexpr bool kz_constant = false;
   static constexpr bool time_dependent = true;
   struct RunTimeTraits {
-    bool kz_constant, time_dependent;
+    bool kz_constant, time_dependent, carries_z, carries_mu;
   };
   static RunTimeTraits run_time_traits() {
-    return {step_kernel().kz_constant, step_kernel().time_dependent};
+    const StepKernel& k = step_kernel();
+    return {k.kz_constant, k.time_dependent, k.carries_z, k.carries_mu};
   }
 
   template <class T>
@@ -159,8 +161,9 @@ struct ProxyMethod {
 
 // The run's measures as formulas where the kernel holds them (StepKernelFormulas): the runner's
 // formula tracker (engine/measures/observables.hpp) with room for kStepKernelMaxObservables and
-// a stop, the kernel's own count and stop at run time; λ where the formulas read it. Their work
-// after every step runs in the kernel's step loop (FormulaTracker::advance_in_kernel).
+// a stop, the kernel's own count and stop at run time (read through engine/run_traits.hpp); λ
+// where the formulas read it. Their work after every step runs in the kernel's step loop
+// (FormulaTracker::advance_in_kernel).
 struct ProxyFormulas {
   static constexpr bool is_proxy = true;
   static constexpr int observables = kStepKernelMaxObservables;
@@ -169,8 +172,6 @@ struct ProxyFormulas {
   static int run_time_observables() { return step_kernel().formulas.observables; }
   static bool run_time_stop() { return step_kernel().formulas.stop; }
   static bool run_time_reads_lambda() { return step_kernel().formulas.reads_lambda; }
-  static bool run_time_carries_z() { return step_kernel().carries_z; }
-  static bool run_time_carries_mu() { return step_kernel().carries_mu; }
   template <int D, class C>
   static void observe(const ObservableView<D>& x, const C& c, double* v) {
     step_kernel().formulas.observe(x.q, x.p, x.z, x.t, x.lambda, c.v, v);

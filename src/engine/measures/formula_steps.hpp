@@ -10,6 +10,7 @@
 
 #include "engine/lane_clock.hpp"
 #include "engine/measures/observable_view.hpp"
+#include "engine/run_traits.hpp"
 #include "numerics/lane_math.hpp"
 #include "numerics/lane_state.hpp"
 #include "physics/scene_concept.hpp"
@@ -36,10 +37,7 @@ struct FormulaSteps {
 // λ of a lane as a formula reads it: exp(ln λ), ln λ as final_log_lambda (lane_state.hpp).
 template <Scene S, class M>
 double formula_lambda(const LaneState<S::dof>& x) {
-  if constexpr (requires { M::run_time_reads_lambda(); })  // a step kernel's formulas
-    if (!M::run_time_reads_lambda()) return 1.0;
-  if constexpr (M::reads_lambda) return std::exp(log_lambda<S>(x));
-  else return 1.0;
+  return FormulaTraits<M>::reads_lambda() ? std::exp(log_lambda<S>(x)) : 1.0;
 }
 
 template <Scene S, class M>

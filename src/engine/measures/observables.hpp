@@ -36,6 +36,7 @@
 #include "engine/measures/formula_steps.hpp"
 #include "engine/measures/observable_view.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/run_traits.hpp"
 #include "numerics/lane_state.hpp"
 
 namespace cs {
@@ -51,7 +52,12 @@ template <Scene S, class Method, Carry carry, bool Uniform, class M, int W>
 class FormulaTracker {
   static constexpr int D = S::dof;
   static constexpr int K = M::observables > 0 ? M::observables : 1;
-  static constexpr bool kInKernel = requires { M::is_proxy; };
+  // What the run has, at compile time or a step kernel's at run time (run_traits.hpp): over a
+  // step kernel M's constants are the runner's room, and the fields the kernel's step writes
+  // are what a stop's snapshot keeps for the rerun.
+  using Formulas = FormulaTraits<M>;
+  using Traits = SceneTraits<S, carry>;
+  static constexpr bool kInKernel = Formulas::in_step_kernel;
   using Tile = LaneTile<S, Method, W>;
   using Params = ParamsOf<S, double>;
   using Coef = typename Method::template Coef<double>;
@@ -69,42 +75,18 @@ class FormulaTracker {
     return formula_view<S, M>(x, t);
   }
 
-  // The run's observables: M's, or a step kernel's (M::observables is then the runner's room).
-  static int observable_count() {
-    if constexpr (requires { M::run_time_observables(); }) return M::run_time_observables();
-    else return M::observables;
-  }
-  // The fields a lane's step writes: the run's carried state and scene's, or a step kernel's.
-  static bool with_z() {
-    if constexpr (kInKernel) return M::run_time_carries_z();
-    else return carry.z || S::z_feeds_back;
-  }
-  static bool with_mu() {
-    if constexpr (kInKernel) return M::run_time_carries_mu();
-    else return carry.mu;
-  }
-  static bool may_break() {
-    if constexpr (requires { S::run_time_traits(); }) return !S::run_time_traits().kz_constant;
-    else return !S::kz_constant;
-  }
-  // Whether the run has a stop: M's, or a step kernel's.
-  static bool has_stop() {
-    if constexpr (requires { M::run_time_stop(); }) return M::run_time_stop();
-    else return M::stop;
-  }
-
   void clear(int slot) {
     a_.hit[slot] = 0;
     a_.count[slot] = 0.0;
     a_.nan[slot] = 0.0;
-    for (int k = 0; k < observable_count(); ++k)
+    for (int k = 0; k < Formulas::observables(); ++k)
       a_.sum[k][slot] = 0.0, a_.min[k][slot] = INFINITY, a_.max[k][slot] = -INFINITY;
   }
 
   void move(int from, int to) {
     a_.count[to] = a_.count[from];
     a_.nan[to] = a_.nan[from];
-    for (int k = 0; k < observable_count(); ++k)
+    for (int k = 0; k < Formulas::observables(); ++k)
       a_.sum[k][to] = a_.sum[k][from], a_.min[k][to] = a_.min[k][from],
       a_.max[k][to] = a_.max[k][from];
     a_.hit[to] = 0;
@@ -121,7 +103,7 @@ class FormulaTracker {
 
   // Whether the run's formulas have work after every step (the stop's condition, a window
   // without trajectory): before_advance reads the lanes' step counts only then.
-  bool after_every_step() const { return has_stop() || o_.window_every_step; }
+  bool after_every_step() const { return Formulas::stop() || o_.window_every_step; }
 
   // Before a tile is advanced by `steps`: whether its steps need after_step (the stop's
   // condition; the window's samples when the chunk can reach the window), and if so the lanes'
@@ -138,7 +120,7 @@ class FormulaTracker {
       }
     }
     a_.window_now = window;
-    const bool stop = M::stop && has_stop();
+    const bool stop = Formulas::stop();
     if (!stop && !window) return false;
     for (int i = 0; i < W; ++i) a_.base[b + i] = steps_done[i], a_.hit[b + i] = 0;
     if (!stop) return true;
@@ -146,17 +128,17 @@ class FormulaTracker {
     std::memcpy(s.q, t.q, sizeof s.q);
     std::memcpy(s.p, t.p, sizeof s.p);
     std::memcpy(s.kq, t.kq, sizeof s.kq);
-    if (with_z()) std::memcpy(s.z, t.z, sizeof s.z);
-    if (with_mu()) {
+    if (Traits::carries_z()) std::memcpy(s.z, t.z, sizeof s.z);
+    if (Traits::carries_mu()) {
       std::memcpy(s.mu, t.mu, sizeof s.mu);
       std::memcpy(s.numerator, t.lambda_numerator, sizeof s.numerator);
       std::memcpy(s.denominator, t.lambda_denominator, sizeof s.denominator);
       std::memcpy(s.folds, t.lambda_folds, sizeof s.folds);
     }
-    if (may_break()) std::memcpy(s.broken, t.broken, sizeof s.broken);
+    if (!Traits::kz_constant()) std::memcpy(s.broken, t.broken, sizeof s.broken);
     if (o_.window_every_step) {
       // Both tiles' slots of the run's observables (a step kernel's runner has room for more).
-      const std::size_t rows = static_cast<std::size_t>(observable_count()) * sizeof s.sum[0];
+      const auto rows = static_cast<std::size_t>(Formulas::observables()) * sizeof s.sum[0];
       std::memcpy(s.sum, &a_.sum[0][0], rows);
       std::memcpy(s.min, &a_.min[0][0], rows);
       std::memcpy(s.max, &a_.max[0][0], rows);
@@ -182,9 +164,8 @@ class FormulaTracker {
 
   // The main tile's lanes that stopped during the chunk need a look.
   void screen(LookInt* attention) const {
-    if constexpr (M::stop)
-      if (has_stop())
-        for (int i = 0; i < W; ++i) attention[i] |= a_.hit[i];
+    if (Formulas::stop())
+      for (int i = 0; i < W; ++i) attention[i] |= a_.hit[i];
   }
 
   bool hit(int slot) const {
@@ -204,18 +185,18 @@ class FormulaTracker {
     x = LaneState<D>{};
     for (int d = 0; d < D; ++d) x.q[d] = s.q[d][i], x.p[d] = s.p[d][i], x.kq[d] = s.kq[d][i];
     x.z = 0.0, x.mu = 0.0, x.broken = 0.0;
-    if (with_z()) x.z = s.z[i];
-    if (with_mu()) {
+    if (Traits::carries_z()) x.z = s.z[i];
+    if (Traits::carries_mu()) {
       x.mu = s.mu[i];
       x.lambda_numerator = s.numerator[i];
       x.lambda_denominator = s.denominator[i];
       x.lambda_folds = s.folds[i];
     }
-    if (may_break()) x.broken = s.broken[i];
+    if (!Traits::kz_constant()) x.broken = s.broken[i];
     if (o_.window_every_step) {
       a_.count[slot] = s.count[slot];
       a_.nan[slot] = s.nan[slot];
-      for (int k = 0; k < observable_count(); ++k)
+      for (int k = 0; k < Formulas::observables(); ++k)
         a_.sum[k][slot] = s.sum[k][slot], a_.min[k][slot] = s.min[k][slot],
         a_.max[k][slot] = s.max[k][slot];
     }
@@ -297,7 +278,7 @@ class FormulaTracker {
     if constexpr (M::observables > 0) {
       double v[K];
       M::observe(view(x, clock_.at(n)), c, v);
-      for (int k = 0; k < observable_count(); ++k)
+      for (int k = 0; k < Formulas::observables(); ++k)
         if (o_.trajectory[k] >= 0) column(o_.trajectory[k], point)[sample] = v[k];
       if (o_.window && n >= o_.window_first && n <= o_.window_last) add(slot, v);
     }
@@ -313,7 +294,7 @@ class FormulaTracker {
       // An adaptive lane's b.n counts its attempts; its own time is x.t.
       const double time = adaptive_method<Method>() ? x.t : clock_.at(b.n);
       M::observe(view(x, time), c, v);
-      for (int k = 0; k < observable_count(); ++k) {
+      for (int k = 0; k < Formulas::observables(); ++k) {
         column(o_.final_value[k], b.point)[0] = failed ? nan : v[k];
         if (!o_.window) continue;
         const bool none = status != LaneStatus::ok || a_.count[slot] == 0.0 || a_.nan[slot] != 0.0;
@@ -368,7 +349,7 @@ class FormulaTracker {
 
   void add(int slot, const double* v) {
     double nan_seen = a_.nan[slot];
-    for (int k = 0; k < observable_count(); ++k) {
+    for (int k = 0; k < Formulas::observables(); ++k) {
       a_.sum[k][slot] = a_.sum[k][slot] + v[k];
       a_.min[k][slot] = v[k] < a_.min[k][slot] ? v[k] : a_.min[k][slot];
       a_.max[k][slot] = v[k] > a_.max[k][slot] ? v[k] : a_.max[k][slot];
