@@ -21,7 +21,8 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
 * The built-in double well with observe: a step kernel, whose final states are the built-in
   kernel's; with a stop and a window without trajectory (their work after every step in the
   step kernel's loop) its final states, statistics and stop times are the bits of a whole
-  kernel's (the same run with lyapunov).
+  kernel's (the same run with lyapunov). Its basin map with formulas: a step kernel with the
+  trap's uses of K, whose map, stops and statistics are the bits of a whole kernel's.
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
   a trajectory it is, and the final states are the same bits (samples never change the steps).
 """
@@ -180,6 +181,33 @@ if watched and whole:
         check("the stop holds for some lanes and not for others",
               0 < np.count_nonzero(stopped) < stopped.size, f"{np.count_nonzero(stopped)}")
         check("the step kernel's stop and window: the bits of the whole kernel's",
+              len(names) >= 8 and all(np.array_equal(a[n][...], b[n][...], equal_nan=True)
+                                      for n in names),
+              f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")
+
+# A built-in scene's basin map with formulas: a step kernel from its header with the trap's uses
+# of K (its wells' search), the trap and the other mappers in the program's runner; the same map
+# with lyapunov builds a whole kernel, whose trap reads the scene's own type: the same bits.
+MAP_OBSERVE = ('basin = { early_stop = false }\nobserve = { E = "p^2/2 + (q^2 - a*a)^2/2" }\n'
+               'observe_window = { from = 5.0, to = 30.0 }\nstop = { when = "t > 2 and p > 0.8" }\n')
+map_observed, found = run_in_fresh_cache(BUILTIN + MAP_OBSERVE, "well_builtin_map_observe",
+                                         parts=MAPPERS + (STEP_ENTRY,))
+check("built-in double well's basin map with formulas: a step kernel with the wells' search, "
+      "no other mapper in it", list(found.values()) == [{STEP_ENTRY, "WellFinder<"}], f"{found}")
+map_whole, found = run_in_fresh_cache(BUILTIN + MAP_OBSERVE + "lyapunov = {}\n",
+                                      "well_builtin_map_lyapunov", parts=MAPPERS + (STEP_ENTRY,))
+check("the same map with lyapunov: a whole kernel with the trap and its wells",
+      [sorted(v) for v in found.values()] == [["EnergyTrap<", "WellFinder<"]], f"{found}")
+if map_observed and map_whole:
+    with h5py.File(map_observed, "r") as a, h5py.File(map_whole, "r") as b:
+        names = [n for n in a if n.startswith(("final_", "mean_", "min_", "max_", "stop_"))
+                 or n in ("basin", "settle_time")]
+        labels = set(np.unique(a["basin"][...]).tolist())
+        stopped = np.isfinite(a["stop_time"][...])
+        check("the map labels both wells and the stop holds for some lanes only",
+              {1, 2} <= labels and 0 < np.count_nonzero(stopped) < stopped.size,
+              f"{labels}, {np.count_nonzero(stopped)} stopped")
+        check("the built-in's map on a step kernel: the bits of the whole kernel's",
               len(names) >= 8 and all(np.array_equal(a[n][...], b[n][...], equal_nan=True)
                                       for n in names),
               f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")

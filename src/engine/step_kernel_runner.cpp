@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "engine/proxy_runner.hpp"
+#include "engine/scene_form.hpp"
 #include "formula/custom_scene.hpp"
 #include "formula/measure_formulas.hpp"
 #include "numerics/method_list.hpp"
@@ -48,16 +49,14 @@ bool formulas_match(const StepKernelFormulas& f, const RunPlan& plan) {
 }  // namespace
 
 bool uses_energy_trap(const RunPlan& plan) {
-  return plan.map.basin >= 0 && mappers_of(plan).trap && plan.spec.custom &&
-         plan.spec.custom->formula.traits.energy_trap_form();
+  return plan.map.basin >= 0 && mappers_of(plan).trap && energy_trap_form(plan.spec, plan.scene);
 }
 
 bool runs_on_step_kernel(const std::vector<const RunPlan*>& plans) {
   for (const RunPlan* plan : plans) {
-    // A built-in scene's runs are compiled ahead of time but those with measures as formulas
-    // (and its basin maps, whose energy trap and fixed points read the scene's own type).
+    // A built-in scene's runs are compiled ahead of time but those with measures as formulas.
     const bool formulas = has_measure_formulas(plan->spec.measures);
-    if (!plan->spec.custom && !(formulas && plan->map.basin < 0)) return false;
+    if (!plan->spec.custom && !formulas) return false;
     if (plan->method.adaptive || plan->carry.tangent ||
         (formulas && !formulas_fit_step_kernel(*plan)) ||
         plan->scene.dof > kStepKernelMaxDof ||

@@ -7,9 +7,7 @@
 #include "engine/recurrence/cell_grid.hpp"
 #include "engine/recurrence/default_range.hpp"
 #include "engine/recurrence/recurrence_search.hpp"
-#include "formula/custom_scene.hpp"
-#include "physics/builtin_scenes.hpp"  // generated from physics/scenes.toml
-#include "physics/energy_wells.hpp"
+#include "engine/scene_form.hpp"
 
 namespace cs {
 
@@ -23,39 +21,14 @@ std::array<double, 2> default_range(const RunSpec& spec, const std::string& name
   return {lo - widen, hi + widen};
 }
 
-namespace {
-
-// Whether K = Σp²/2 + V(q) + k·z without t (the energy trap's form): E = K(q, p, 0) changes as
-// k·|p|², so with k < 0 every orbit ends where p = 0 and forces vanish (LaSalle): at fixed
-// points, which the anchor test and the trap find; with k ≥ 0 there is no attractor at all.
-template <class... Scenes>
-bool builtin_fixed_points_only(const std::string& name, SceneList<Scenes...>) {
-  return ((name == Scenes::name && has_energy_trap<Scenes>()) || ...);
-}
-
-bool fixed_points_only(const RunSpec& spec, const SceneInfo& scene) {
-  if (spec.custom) return spec.custom->formula.traits.energy_trap_form();
-  return builtin_fixed_points_only(scene.name, BuiltinScenes{});
-}
-
-template <class... Scenes>
-bool builtin_reads_t(const std::string& name, SceneList<Scenes...>) {
-  return ((name == Scenes::name && time_dependent<Scenes>()) || ...);
-}
-
-bool reads_t(const RunSpec& spec, const SceneInfo& scene) {
-  if (spec.custom) return spec.custom->formula.traits.time_dependent;
-  return builtin_reads_t(scene.name, BuiltinScenes{});
-}
-
-}  // namespace
-
 RecurrenceSearch plan_recurrence(const RunSpec& spec, const SceneInfo& scene,
                                  const std::vector<double>& angle_period) {
   RecurrenceSearch r;
   const RecurrenceSettings& s = spec.measures.basin->recurrence;
-  r.period_on_autonomous = spec.measures.basin->period.has_value() && !reads_t(spec, scene);
-  r.enabled = s.enabled.value_or(!fixed_points_only(spec, scene));
+  r.period_on_autonomous = spec.measures.basin->period.has_value() && !reads_time(spec, scene);
+  // K in the energy trap's form has fixed points alone for attractors (scene_form.hpp), which
+  // the anchor test and the trap find.
+  r.enabled = s.enabled.value_or(!energy_trap_form(spec, scene));
   if (!r.enabled) {
     r.why_off = s.enabled ? "measures.basin.recurrence = false"
                           : "K = p^2/2 + V(q) + k*z without t: every attractor is a fixed point";
