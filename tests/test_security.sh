@@ -7,6 +7,7 @@
 # Last line: "N passed, M failed, K skipped"; exit 1 when any failed.
 set -uo pipefail
 bin=$(realpath "$1") compare=$(realpath "$2")
+source_dir=$(realpath "$(dirname "${BASH_SOURCE[0]}")/..")  # examples/ and jobs/ are run from here
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 chmod 755 "$work"  # the test users must reach their directories inside
@@ -502,6 +503,33 @@ EOF
     grep -q "/proc must be mounted" stderr &&
     ok "without /proc a kernel is refused, not loaded by its path (a parent swapped meanwhile)" ||
     bad "a kernel loaded without /proc" "exit $rc$([[ -e $shared/PWNED ]] && echo ', the planted code ran')"
+fi
+
+# The example's figure, drawn in the user's directory (a shared one, say): another user's file or
+# FIFO left at basins.png is refused, naming it; their file was written into (theirs to change
+# later), their FIFO waited on forever (or handed the figure).
+if [[ ! -f $module/contactsweep/__init__.py ]]; then
+  skip "the example's figure over another user's file or FIFO" "no Python module beside the program"
+elif ! /usr/bin/python3 -c 'import matplotlib, xarray, h5netcdf' 2>/dev/null; then
+  skip "the example's figure over another user's file or FIFO" "no matplotlib, xarray or h5netcdf"
+else
+  quickstart() {  # the victim's examples/quickstart.py in the shared directory
+    (cd "$shared" && as cs-sec-victim env HOME="$work/victim_home" PYTHONPATH="$module" \
+      CONTACTSWEEP_CACHE="$vcache" timeout 120 /usr/bin/python3 "$source_dir/examples/quickstart.py") 2>"$work/stderr"
+  }
+  as cs-sec-attacker sh -c "echo theirs >'$shared/basins.png' && chmod 666 '$shared/basins.png'"
+  quickstart
+  rc=$?
+  ((rc != 0 && rc != 124)) && [[ $(cat "$shared/basins.png") == theirs ]] && grep -q "cannot write basins.png" stderr &&
+    ok "the example's figure is not written into another user's file at its name (refused, naming it)" ||
+    bad "the example's figure over another user's file" "exit $rc, their file: $(head -c 8 "$shared/basins.png" | tr -c '[:print:]' .)"
+  as cs-sec-attacker rm -f "$shared/basins.png" && as cs-sec-attacker mkfifo -m 666 "$shared/basins.png"
+  quickstart
+  rc=$?
+  ((rc != 0 && rc != 124)) && [[ -p $shared/basins.png ]] && grep -q "cannot write basins.png" stderr &&
+    ok "the example's figure does not wait on another user's FIFO at its name (refused, naming it)" ||
+    bad "the example's figure over another user's FIFO" "exit $rc$( ((rc == 124)) && echo ', it hung')"
+  as cs-sec-attacker rm -f "$shared/basins.png"
 fi
 
 echo "$passed passed, $failed failed, $skipped skipped"
