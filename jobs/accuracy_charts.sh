@@ -32,7 +32,11 @@ trap machine_load_at_end EXIT
 "$py" -B src/post/work_precision.py --bin "$bin" --out out/work_precision "${quick[@]}" \
   | tee out/work_precision/work_precision.log
 
-cp out/stability/stability_h_gamma.png out/stability/stability_h_q0.png \
+# --remove-destination: a name in the figures' directory is unlinked, then made anew (O_EXCL), never
+# written through: a link another user left there (FIGURES_DIR in a shared place) would point
+# cp at any file of yours. Their file or link in a sticky directory cannot be removed: cp stops,
+# naming it.
+cp --remove-destination out/stability/stability_h_gamma.png out/stability/stability_h_q0.png \
    out/work_precision/workprecision_damped_oscillator.png out/work_precision/workprecision_double_well.png \
    out/work_precision/basin_accuracy.png out/work_precision/basin_accuracy_magnetic_pendulum.png \
    "$figures"/

@@ -532,5 +532,39 @@ else
   as cs-sec-attacker rm -f "$shared/basins.png"
 fi
 
+# jobs/accuracy_charts.sh copies its PNGs into FIGURES_DIR, which may be a shared place: a link
+# another user left at a PNG's name is not written through (cp followed it into the victim's
+# file). The job runs from a copy of the script beside stub charts (the real ones take minutes).
+charts=$work/charts_repo && mkdir -p "$charts/jobs" "$charts/src/post"
+cp "$source_dir/jobs/accuracy_charts.sh" "$source_dir/jobs/machine_facts.sh" "$charts/jobs/"
+for script in stability_maps:stability_h_gamma,stability_h_q0 \
+  work_precision:workprecision_damped_oscillator,workprecision_double_well,basin_accuracy,basin_accuracy_magnetic_pendulum; do
+  cat >"$charts/src/post/${script%%:*}.py" <<EOF
+import sys, pathlib
+out = pathlib.Path(sys.argv[sys.argv.index("--out") + 1])
+for name in "${script#*:}".split(","):
+    (out / (name + ".png")).write_bytes(b"a chart")
+EOF
+done
+chown -R cs-sec-victim: "$charts"
+as cs-sec-victim sh -c "echo keep >'$work/victim_home/precious'"
+as cs-sec-attacker ln -s "$work/victim_home/precious" "$shared/stability_h_q0.png"
+as cs-sec-victim env HOME="$work/victim_home" FIGURES_DIR="$shared" CONTACTSWEEP_BIN=/bin/true \
+  bash "$charts/jobs/accuracy_charts.sh" >/dev/null 2>stderr
+rc=$?
+((rc != 0)) && [[ $(cat "$work/victim_home/precious") == keep && -L $shared/stability_h_q0.png ]] &&
+  grep -q "stability_h_q0.png" stderr &&
+  ok "accuracy_charts.sh copies no figure through another user's link in a sticky FIGURES_DIR (refused, naming it)" ||
+  bad "accuracy_charts.sh copies through another user's link" "exit $rc, the victim's file: $(head -c 8 "$work/victim_home/precious")"
+as cs-sec-attacker mkdir -m 0777 "$shared/figures" && as cs-sec-attacker chmod 0777 "$shared/figures" &&
+  as cs-sec-attacker ln -s "$work/victim_home/precious" "$shared/figures/basin_accuracy.png"
+as cs-sec-victim env HOME="$work/victim_home" FIGURES_DIR="$shared/figures" CONTACTSWEEP_BIN=/bin/true \
+  bash "$charts/jobs/accuracy_charts.sh" >/dev/null 2>stderr
+rc=$?
+((rc == 0)) && [[ $(cat "$work/victim_home/precious") == keep && ! -L $shared/figures/basin_accuracy.png ]] &&
+  [[ $(cat "$shared/figures/basin_accuracy.png") == "a chart" ]] &&
+  ok "accuracy_charts.sh replaces another user's link in their FIGURES_DIR, its target untouched" ||
+  bad "accuracy_charts.sh over another user's link in their directory" "exit $rc, the victim's file: $(head -c 8 "$work/victim_home/precious")"
+
 echo "$passed passed, $failed failed, $skipped skipped"
 ((failed == 0))
