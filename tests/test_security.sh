@@ -390,6 +390,50 @@ else
   skip "a snapshot directory another user made under the build tree's name" "no private mount namespace"
 fi
 
+# The build tree's snapshot writable by a group another user is in (a group project's build tree
+# under umask 002), the program copied out of it (~/bin): only owners were checked, so that
+# user's code (a constructor in the prelude, its precompiled header removed) ran in the victim's
+# kernel. Refused (exit 1), naming it. A group of the victim's own (umask 002 with a private
+# group, Debian's default) is no one else's: its kernel builds (same bits).
+group_snapshot() {  # group_snapshot GROUP: a copy of the snapshot (no precompiled headers), g+w
+  rm -rf "$work/group_snapshot" && mkdir "$work/group_snapshot" &&
+    tar -C "$snapshot_dir" --exclude='*.gch' -cf - . | tar -C "$work/group_snapshot" -xf - &&
+    chgrp -R "$1" "$work/group_snapshot" && chmod -R g+w "$work/group_snapshot"
+}
+as_victim_with_snapshot() {  # CACHE OUT: the copied program, the group's snapshot bound over the build's
+  (cd "$shared" && unshare -m --propagation private sh -c \
+    'mount --bind "$1" "$2" && exec setpriv --reuid="$3" --regid="$4" --clear-groups env CONTACTSWEEP_CACHE="$5" "$6" run k.toml -o "$7" --quiet' \
+    sh "$work/group_snapshot" "$snapshot_dir" "$vuid" "$(id -g cs-sec-victim)" \
+    "$work/victim_home/$1" "$shared/copied/contactsweep" "$2") 2>stderr
+}
+if unshare -m --propagation private true 2>/dev/null; then
+  group_snapshot cs-sec-attacker
+  for prelude in kernel_prelude.hpp step_kernel_prelude.hpp; do
+    as cs-sec-attacker sh -c "cat >>'$work/group_snapshot/kernel_build/$prelude'" <<EOF
+#include <cstdio>
+__attribute__((constructor)) static void planted_$RANDOM(void) { if (FILE* f = std::fopen("$shared/PWNED_GROUP", "w")) std::fclose(f); }
+EOF
+  done
+  as_victim_with_snapshot group_cache1 victim8.h5
+  rc=$?
+  ((rc == 1)) && [[ ! -e $shared/PWNED_GROUP && ! -e $shared/victim8.h5 ]] &&
+    grep -q "not compiling kernels against the headers in '$snapshot_dir': others can write to" stderr &&
+    ok "a snapshot another user's group can write to is refused (exit 1), never compiled in" ||
+    bad "a snapshot another user's group can write to" "exit $rc$([[ -e $shared/PWNED_GROUP ]] && echo ', the planted code ran')"
+  if [[ $(id -gn cs-sec-victim) == cs-sec-victim ]]; then
+    group_snapshot cs-sec-victim
+    as_victim_with_snapshot group_cache2 victim9.h5
+    rc=$?
+    ((rc == 0)) && same ref.h5 "$shared/victim9.h5" &&
+      ok "a snapshot writable by the victim's own private group builds its kernel (same bits)" ||
+      bad "a snapshot writable by the victim's own private group" "exit $rc"
+  else
+    skip "a snapshot writable by the victim's own private group" "useradd made no private group"
+  fi
+else
+  skip "a snapshot another user's group can write to" "no private mount namespace"
+fi
+
 # The journal of an output in a shared directory, made first by another user.
 as cs-sec-attacker mkdir -m 0700 "$shared/map.h5.journal"
 as cs-sec-attacker sh -c "echo mine >'$shared/map.h5.journal/block_0.bin'"

@@ -3,6 +3,7 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
+#include <grp.h>
 #include <pwd.h>
 #include <sys/stat.h>
 #include <signal.h>
@@ -108,17 +109,42 @@ bool trusted_owner(uid_t owner) {
   return owner == 0 || owner == ::geteuid() || owner == code_owner;
 }
 
+// Whether the only users in group `gid` are ones trusted_owner trusts: a user private group (the
+// one whose name is its user's and who has it as primary group, no other member listed) of
+// root, ours or the code's owner. Group-writable files in such a group are what a build under a
+// umask of 002 leaves (Debian's and Ubuntu's default for users with a group of their own).
+bool private_group_of_trusted(gid_t gid) {
+  static std::mutex mutex;
+  static std::map<gid_t, bool> known;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (auto it = known.find(gid); it != known.end()) return it->second;
+  bool trusted = false;
+  struct group group_entry {}, *group = nullptr;
+  std::vector<char> group_buffer(65536);
+  if (::getgrgid_r(gid, &group_entry, group_buffer.data(), group_buffer.size(), &group) == 0 &&
+      group != nullptr && group->gr_name != nullptr) {
+    struct passwd user_entry {}, *user = nullptr;
+    std::vector<char> user_buffer(16384);
+    trusted = ::getpwnam_r(group->gr_name, &user_entry, user_buffer.data(), user_buffer.size(),
+                           &user) == 0 &&
+              user != nullptr && user->pw_gid == gid && trusted_owner(user->pw_uid);
+    for (char** member = group->gr_mem; trusted && member != nullptr && *member != nullptr; ++member)
+      trusted = std::strcmp(*member, group->gr_name) == 0;
+  }
+  return known[gid] = trusted;
+}
+
 // Why the headers in `dir` may be another user's, or "" when only root, we and the owner of
 // the code file running (whose code we run anyway: a software tree an admin account installed)
 // can have put them there: `dir`, everything in it and every directory above it that is not
-// also above the code file (where the code file is just as exposed) is theirs, and with
-// `writable_by_them_alone`, nobody else can write to it (but for sticky directories above:
-// others may add names there, not replace ours). The installed candidates below are found by
+// also above the code file (where the code file is just as exposed) is theirs, and nobody else
+// can write to it (but for sticky directories above: others may add names there, not replace
+// ours; and a group that is a private group of one of those users). The installed candidates below are found by
 // climbing from the code file's directory, up to 4 levels: for a program or module that is not
 // installed (a build tree 4 levels below /tmp, a checkout in a shared /scratch) they are
 // directories anyone may create; the build tree's snapshot is named by its absolute path, which
 // anyone may create once a build tree in /tmp is gone and its program lives on elsewhere.
-std::string untrusted_headers(const std::string& dir, bool writable_by_them_alone) {
+std::string untrusted_headers(const std::string& dir) {
   std::error_code error;
   const fs::path code = code_file();
   const fs::path code_dir =
@@ -129,8 +155,10 @@ std::string untrusted_headers(const std::string& dir, bool writable_by_them_alon
       return fmt::format("'{}' cannot be examined ({})", path.string(), errno_text(errno));
     if (!trusted_owner(status.st_uid))
       return fmt::format("'{}' belongs to user id {}", path.string(), status.st_uid);
-    if (writable_by_them_alone && (status.st_mode & (S_IWGRP | S_IWOTH)) != 0 &&
-        !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
+    const bool others_write =
+        (status.st_mode & S_IWOTH) != 0 ||
+        ((status.st_mode & S_IWGRP) != 0 && !private_group_of_trusted(status.st_gid));
+    if (others_write && !(above && S_ISDIR(status.st_mode) && (status.st_mode & S_ISVTX) != 0))
       return fmt::format("others can write to '{}'", path.string());
     return {};
   };
@@ -182,7 +210,7 @@ std::string find_header_directory() {
         why = fmt::format("'{}' is a link that user id {} made", way.lexically_normal().string(),
                           status.st_uid);
     }
-    if (why.empty()) why = untrusted_headers(canonical, true);
+    if (why.empty()) why = untrusted_headers(canonical);
     if (!why.empty()) {
       log("contactsweep: warning: not compiling kernels against the headers in '{}': {}, so "
           "another user may have put them there",
@@ -292,14 +320,20 @@ void remove_stale_builds(const OwnedDirectory& cache) {
 }
 
 // The headers in `dir` are the snapshot this program was built with, and none another user may
-// have put there, or the build is refused: a kernel compiled from other headers would be called
-// with other layouts, or run their code.
+// have put there or changed, or the build is refused: a kernel compiled from other headers
+// would be called with other layouts, or run their code. Writable by others, the build tree's
+// snapshot is as exposed as an installed copy: a program copied out of a group's build tree
+// (~/bin) compiled what any member of the group wrote into it (its precompiled header too).
 void check_headers(const std::string& dir) {
-  if (const std::string why = untrusted_headers(dir, false); !why.empty())
+  if (const std::string why = untrusted_headers(dir); !why.empty())
     throw std::runtime_error(fmt::format(
         "not compiling kernels against the headers in '{}': {}, so another user may have put "
-        "them there; rebuild contactsweep (cmake --build) or install it again (cmake --install)",
-        dir, why));
+        "them there; {}",
+        dir, why,
+        why.rfind("others can write", 0) == 0
+            ? "if only you can have changed them, make them writable by their owner alone "
+              "(chmod -R go-w), else rebuild contactsweep or install it again"
+            : "rebuild contactsweep (cmake --build) or install it again (cmake --install)"));
   std::string text;
   const int fd = ::open((dir + "/HEADERS_SHA256").c_str(), O_RDONLY | O_CLOEXEC);
   if (fd >= 0) {
