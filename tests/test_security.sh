@@ -492,6 +492,16 @@ rc=$?
   ok "another user's link as OUT.h5.partial is refused (exit 1), its target untouched" ||
   bad "another user's link as OUT.h5.partial" "exit $rc"
 
+# Another user's dangling link at the output's name, its target holding escape sequences: the
+# refusal names the target with its control characters written out, never sends them raw to
+# the victim's terminal (a window title set, the screen cleared).
+as cs-sec-attacker ln -s "$(printf 'gone\033]0;planted title\007\033[2J')" "$shared/escape.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml -o escape.h5 --quiet) 2>stderr
+rc=$?
+((rc == 2)) && ! grep -q $'\033' stderr && grep -qF 'gone\x1b]0;planted title\x07' stderr &&
+  ok "a planted link's target reaches the terminal with its control characters written out (exit 2)" ||
+  bad "a planted link's target with escape sequences" "exit $rc$(grep -q $'\033' stderr && echo ', raw escapes printed')"
+
 # Without /proc (a container or chroot that does not mount it) the descriptor a kernel was
 # checked on has no name to load it by, and its path is not loaded instead: whoever can rename a
 # parent of the cache (here a directory of the attacker's that holds the victim's cache) swaps

@@ -15,13 +15,25 @@
 namespace cs {
 namespace {
 
+// `text` with its control characters written as \xNN: a link's target is anyone's text (another
+// user's link at the output's name in a shared directory), and raw it reached the terminal,
+// escape sequences included (a window title set, the screen cleared).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const unsigned char c : text) {
+    if (c < 0x20 || c == 0x7f) out += fmt::format("\\x{:02x}", c);
+    else out += static_cast<char>(c);
+  }
+  return out;
+}
+
 void check_output_path(const SweepOptions& options) {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::file_status status = fs::status(options.output, error);
   if (fs::is_symlink(fs::symlink_status(options.output, error)) && !fs::exists(status))
     throw InputError("output '" + options.output + "' is a symbolic link to nothing ('" +
-                     fs::read_symlink(options.output, error).string() +
+                     printable(fs::read_symlink(options.output, error).string()) +
                      "'); remove it or name another file");
   if (fs::is_directory(status))
     throw InputError("output '" + options.output + "' is a directory; name a file, e.g. -o " +
