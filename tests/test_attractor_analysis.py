@@ -18,17 +18,19 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
   lambda_1 = ln(sqrt(2/3)) / W exactly (the tangent's q3 part decays).
 * The damped double well written as K: two fixed points (kind 0, no period), the points at
   (+-1, 0), lambda_1 = -gamma/2 (the linearisation's eigenvalues -gamma/2 +- i sqrt(2 -
-  gamma^2/4)) within ln(cond V) / W.
+  gamma^2/4)) to rounding, from K's exact Jacobian as for the built-in scene: the same bits.
 * The chaotic forced Duffing (delta = 0.3, F = 0.5, Omega = 1.2) on its stroboscopic map: one
   attractor, kind chaotic, lambda_1 against the DOP853 + variational reference (0.10514, sd
   0.0062 over T = 10^4, tests/reference/duffing_lyapunov.py) within 4 sd scaled to the window
   plus the tangent's alignment transient, 200 lambda / W.
 * The built-in double well's map builds no kernel: kind 0, the points its wells, lambda_1 the
-  linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to 1e-8.
-* The orbit is a kernel of its own (kernel_build/kernel_source.hpp): a K run without a basin
-  map builds the block runner's kernel alone; its basin map builds the orbit kernel, which holds
-  nothing else, beside its runner's (a second compiler at the same time, before the map), and
-  the next map of the same K and method builds nothing; a built-in
+  linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to rounding.
+* The orbit is a kernel of its own (kernel_build/kernel_source.hpp), built only where a map can
+  find an attractor that is not a fixed point: a K run without a basin map builds its step
+  kernel alone, and so does the double well's map as K (the energy trap's fixed points); the
+  next map of the same K builds nothing; a K whose map looks by recurrences (van der Pol)
+  builds the orbit kernel, which holds nothing else, beside its runner's (a second compiler at
+  the same time, before the map); a built-in
   scene on its stroboscopic map builds the orbit kernel alone; the built-in double well with
   lyapunov (a kernel, no orbit needed) describes its attractors as it does without it, bit for
   bit.
@@ -242,13 +244,12 @@ if well:
     check("double well as K: the samples are the minima (+-1, 0) to the trap's point",
           np.allclose(pts[:, :, 0], [[-1.0], [1.0]], atol=1e-9) and np.allclose(pts[:, :, 1], 0.0, atol=1e-9),
           f"{pts[:, 0]}")
-    # At a minimum: A = [[0, 1], [-V'', -gamma]], V'' = 4 a^2; lambda_1 = -gamma/2 to within
-    # ln(cond V)/W (V: A's eigenvectors), W = 100.
-    A = np.array([[0.0, 1.0], [-4.0, -GAMMA]])
-    bound = np.log(np.linalg.cond(np.linalg.eig(A)[1])) / 100.0
-    check("double well as K: lambda_1 = -gamma/2 within ln(cond V)/W",
-          np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= bound),
-          f"{t['attractor_lyapunov']} vs {-GAMMA / 2} +- {bound:.4f}")
+    # At a minimum: A = [[0, 1], [-V'', -gamma]], V'' = 4 a^2, eigenvalues -gamma/2 +- i
+    # sqrt(4 - gamma^2/4): A's entries are exact doubles, so lambda_1 is -gamma/2 to the eigen
+    # solver's rounding (a few ulp of |A| ~ 4).
+    check("double well as K: lambda_1 = -gamma/2 to rounding (K's exact Jacobian)",
+          np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= 1e-14),
+          f"{t['attractor_lyapunov']!r} vs {-GAMMA / 2}")
 
 # ---- the built-in double well: no kernel built, fixed points from the table -----------------------
 BUILTIN = WELL.replace('K = "p^2/2 + (q^2 - a*a)^2/2 - gamma*z"\nlabel = "double_well_as_k"',
@@ -263,10 +264,15 @@ if builtin:
           f"{built}")
     check("built-in double well: fixed points, lambda_1 = -gamma/2 exactly, period NaN, points the wells",
           t["attractor_kind"].tolist() == [0, 0]
-          and np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= 1e-8)
+          and np.all(np.abs(t["attractor_lyapunov"] + GAMMA / 2) <= 1e-14)
           and np.all(np.isnan(t["attractor_time_period"]))
           and np.allclose(t["attractor_points"][:, :, 0], [[-1.0], [1.0]]),
           f"{t['attractor_kind']} {t['attractor_lyapunov']} {t['attractor_points'][:, 0]}")
+    if well:
+        k = table(well)
+        check("the double well as K describes its attractors as the built-in does, bit for bit",
+              all(np.array_equal(t[n], k[n], equal_nan=True) for n in t),
+              f"{t['attractor_lyapunov']!r} {k['attractor_lyapunov']!r}")
 
 # ---- the orbit is a kernel of its own, built only for a table that needs it -----------------------
 RUN_ENTRY, ORBIT_ENTRY = "contactsweep_run_block", "contactsweep_attractor_orbit"
@@ -292,15 +298,22 @@ found = entries(split_cache)
 check("K without a basin map: one kernel, a step kernel, and no orbit built",
       list(found.values()) == [{STEP_ENTRY}] and "orbit kernel" not in log, f"{found}\n{log}")
 _, log = run(WELL, "well_k_split", env_extra={"CONTACTSWEEP_CACHE": split_cache})
-orbits = [n for n, e in entries(split_cache).items() if e == {ORBIT_ENTRY}]
-check("K's basin map: its orbit kernel built beside the runner's, holding the orbit alone",
-      len(orbits) == 1 and "built the orbit kernel of scene.K beside it" in log
-      and all(e in ({RUN_ENTRY}, {ORBIT_ENTRY}, {STEP_ENTRY}) for e in entries(split_cache).values()),
-      f"{entries(split_cache)}\n{log}")
-_, log = run(WELL.replace("n = 32", "n = 16"), "well_k_again",
-             env_extra={"CONTACTSWEEP_CACHE": split_cache})
-check("K's next basin map of another grid builds nothing (both kernels cached)",
-      "built the" not in log, log)
+found = entries(split_cache)
+check("K's basin map of fixed points (the energy trap's form): its step kernel alone, no orbit "
+      "kernel", sorted(map(sorted, found.values())) == [[STEP_ENTRY], [STEP_ENTRY]]
+      and "orbit kernel" not in log, f"{found}\n{log}")
+_, log = run(WELL.replace("n = 32", "n = 16").replace('"rk4"', '"contact_splitting4"'),
+             "well_k_again", env_extra={"CONTACTSWEEP_CACHE": split_cache})
+check("K's next basin map, another grid and another method, builds nothing", "built the" not in log,
+      log)
+recurrence_cache = tempfile.mkdtemp(prefix="orbit_recurrence_cache.", dir=work)
+_, log = run(VDP.replace("n = 32", "n = 8"), "vdp_split",
+             env_extra={"CONTACTSWEEP_CACHE": recurrence_cache})
+found = entries(recurrence_cache)
+orbits = [n for n, e in found.items() if e == {ORBIT_ENTRY}]
+check("K's basin map by recurrences: its orbit kernel built beside the runner's, holding the "
+      "orbit alone", len(orbits) == 1 and "built the orbit kernel of scene.K beside it" in log
+      and all(e in ({ORBIT_ENTRY}, {STEP_ENTRY}) for e in found.values()), f"{found}\n{log}")
 strobe_cache = tempfile.mkdtemp(prefix="orbit_strobe_cache.", dir=work)
 _, log = run(BUILTIN.replace("basin = {}", "basin = { period = 5.0 }"), "well_builtin_strobe",
              env_extra={"CONTACTSWEEP_CACHE": strobe_cache})

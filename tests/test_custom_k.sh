@@ -128,10 +128,10 @@ check "runs without a basin map built step kernels only ($(step_sources) of them
 # Basin maps run on a step kernel too, with the mappers in the program; a map that uses the
 # energy trap builds the kernel with the trap's uses of K (its screen's E over a tile, the
 # wells, a well's bottom: engine/step_kernel.hpp's StepKernelTrap). The double well's map as K
-# equals the built-in's bit for bit in every dataset but the attractors' description (a K's
-# comes from its orbit kernel, a built-in's fixed points from the linearised flow) and its
-# labels' names (the built-in names its wells by the sign of q, a K numbers them): `basin` is
-# the same partition, 0 (undecided) kept. same_map BUILTIN K VERDICT (the energy_trap attribute)
+# equals the built-in's bit for bit in every dataset, the attractors' description too (their
+# fixed points' λ₁ from K's exact Jacobian, one formula for both), but its labels' names (the
+# built-in names its wells by the sign of q, a K numbers them): `basin` is the same partition,
+# 0 (undecided) kept. same_map BUILTIN K VERDICT (the energy_trap attribute)
 # CLASSES (how many the partition has: with t_end = 10, only the trap settles lanes)
 same_map() {
   py "
@@ -141,7 +141,7 @@ assert a.attrs['energy_trap'] == b.attrs['energy_trap'] == '$3', (a.attrs['energ
 assert set(a) == set(b), (sorted(a), sorted(b))
 compared = 0
 for v in a:
-    if v.startswith('attractor') or v.startswith('branch_'):
+    if v in ('attractor', 'attractor_label') or v.startswith('branch_'):
         continue
     x, y = a[v][...], b[v][...]
     assert x.dtype == y.dtype and x.shape == y.shape, v
@@ -154,7 +154,7 @@ for v in a:
             x, y = x.view(np.uint64), y.view(np.uint64)
         assert np.array_equal(x, y), v
     compared += 1
-assert 'basin' in a and compared >= 4, sorted(a)
+assert 'basin' in a and 'attractor_lyapunov' in a and compared >= 8, sorted(a)
 "
 }
 # A step kernel's source with the trap's entries: its step_kernel_of's fourth argument

@@ -33,6 +33,10 @@ bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
   return false;
 }
 
+bool may_need_orbits(const RunPlan& plan) {
+  return plan.map.basin >= 0 && (stroboscopic(plan) || plan.recurrence.enabled);
+}
+
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
   const RunSpec& spec = plan.spec;
   const int n = 2 * plan.scene.dof;

@@ -59,8 +59,7 @@ struct AttractorOrbit {
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
-// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp): built-in
-// scenes only, whose types the program holds.
+// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp).
 using FixedPointExponentFn = double (*)(const RunPlan&, const std::vector<double>& params,
                                         const std::vector<double>& state);
 
@@ -75,6 +74,9 @@ struct AttractorAnalysis {
 // of an autonomous scene (the energy trap's and the anchor test's): those are described from
 // the table alone, so such maps build no kernel.
 bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table);
+// Can the map's table hold such an attractor, before it is made? Where the recurrences or the
+// stroboscopic map look for attractors: the energy trap and the anchor test find fixed points.
+bool may_need_orbits(const RunPlan& plan);
 
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
 

@@ -319,15 +319,15 @@ SceneSource scene_source(const RunPlan& plan) {
 }
 
 // Builds (or finds cached) the kernel `source` with its entry point, and says so; `what` names
-// it in the log. A K's basin map describes its attractors with the orbit kernel (wants_orbits:
-// wherever its table holds an attractor), built after the map: compiled now instead, beside
-// this one, a second compiler on the second core (a first map 2.3 -> 1.7 s on two cores:
-// docs/performance.md).
+// it in the log. A K's basin map that can find attractors other than fixed points
+// (may_need_orbits) describes them with the orbit kernel, built after the map: compiled now
+// instead, beside this one, a second compiler on the second core (a first map 2.3 -> 1.7 s on
+// two cores: docs/performance.md).
 void* kernel_with_orbit(const RunPlan& plan, const SceneSource& scene, const std::string& source,
                         const char* entry, const std::string& what, const SweepOptions& options,
                         MPI_Comm comm) {
   std::optional<std::string> orbit_source;
-  if (plan.spec.custom && plan.map.basin >= 0)
+  if (plan.spec.custom && plan.map.basin >= 0 && may_need_orbits(plan))
     orbit_source = orbit_kernel_source(scene.header, scene.struct_name, plan.spec.method);
   BuiltKernel built, orbit;
   void* found = prepare_kernel(source, entry, comm, &built,
@@ -402,15 +402,6 @@ OrbitFn orbit_kernel(const RunPlan& plan, const SweepOptions& options, MPI_Comm 
         "(cached: {})",
         plan.spec.custom ? "scene.K" : "scene " + plan.scene.name, built.seconds, built.library);
   return reinterpret_cast<OrbitFn>(entry);
-}
-
-// Does the description of the table's attractors integrate orbits? Where the table's fixed
-// points are not enough (needs_orbits); and for scene.K wherever it holds an attractor, since
-// the exact λ₁ of a fixed point (fixed_point_exponent) needs a built-in scene's type.
-bool wants_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
-  if (needs_orbits(plan, table)) return true;
-  return plan.spec.custom &&
-         std::any_of(table.begin(), table.end(), [](const Attractor& a) { return a.period != kExitPeriod; });
 }
 
 // A RunControl sees the reporter of the loop, and only while it lives.
@@ -555,12 +546,12 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     // Each attractor described (attractor_analysis.hpp), its orbit kernel built first when it
     // needs one; rank 0, which writes the file, integrates.
     OrbitFn orbit = nullptr;
-    if (wants_orbits(plan, basins->table)) orbit = orbit_kernel(plan, options, comm);
+    if (needs_orbits(plan, basins->table)) orbit = orbit_kernel(plan, options, comm);
     const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
-      // A built-in scene's fixed points get their exact λ₁ (the program holds its type).
-      const FixedPointExponentFn fixed = plan.spec.custom ? nullptr : &fixed_point_exponent;
-      if (c.rank == 0) basins->analysis = analyse_attractors(plan, basins->table, orbit, fixed);
+      // The table's fixed points get their exact λ₁ from K's formula (fixed_point_exponent.hpp).
+      if (c.rank == 0)
+        basins->analysis = analyse_attractors(plan, basins->table, orbit, &fixed_point_exponent);
     });
     if (orbit != nullptr && !options.quiet && c.rank == 0)
       log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),
