@@ -11,14 +11,13 @@
 
 #include "engine/run_plan.hpp"
 #include "formula/contact_jacobian.hpp"
-#include "formula/custom_scene.hpp"
 
 namespace cs {
 namespace {
 
-// K as written: the spec's, or the built-in scene's from its catalog entry ("K = ...").
+// K as written: the scene's description holds it as "K = <formula>", a built-in scene's (its
+// catalog entry, from src/physics/scenes.toml) and a spec's alike.
 std::string k_of(const RunPlan& plan) {
-  if (plan.spec.custom) return plan.spec.custom->formula.text;
   const std::string& written = plan.scene.hamiltonian;
   const std::string prefix = "K = ";
   return written.rfind(prefix, 0) == 0 ? written.substr(prefix.size()) : written;
