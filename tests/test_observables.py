@@ -262,5 +262,77 @@ if hh is not None:
             check(f"same bits on {max(ranks, 1)} rank(s) x {threads} thread(s)", r.returncode == 0,
                   r.stdout + r.stderr)
 
+# ---- a basin map's trajectory after the lane settled with early stop ---------------------------
+# A lane whose basin is decided stops costing time; its trajectory ends there. The samples it
+# never reached were left at the columns' zeros (q = p = E = 0, values an orbit can hold, and
+# the energy trap settles a lane below the barrier at t = 0: zeros after its first sample).
+# Now they are NaN, as after a stop or a failure. The reference is the same map integrated to
+# t_end (early_stop = false), which must hold the same bits wherever the early-stopped run has a
+# sample; on-line anchors (exact_trap = false) settle the lanes mid-run, the trap at t = 0.
+SETTLE = """
+[scene]
+{scene}
+[integrator]
+method = "rk4"
+h = 0.02
+t_end = 60.0
+[grid]
+q_0 = {{ from = -1.8, to = 1.8, n = 10 }}
+p_0 = {{ from = -1.0, to = 1.0, n = 6 }}
+[measures]
+basin = {{ exact_trap = {trap}, early_stop = {early} }}
+final_state = {{ vars = ["q", "p"] }}
+trajectory = {{ every = 25 }}
+{formulas}
+"""
+DW = 'name = "double_well"\ngamma = 1.0'
+DW_K = 'K = "p^2/2 + (q^2 - a^2)^2/2 - gamma*z"\na = 1.0\ngamma = 1.0'
+E_FORMULAS = ('observe = { E = "p^2/2 + (q^2 - a*a)^2/2" }\n'
+              'observe_window = { from = 0.0, to = 60.0 }')
+for scene_name, scene, formulas in (("builtin", DW, ""), ("builtin_formulas", DW, E_FORMULAS),
+                                    ("K_formulas", DW_K, E_FORMULAS.replace("a*a", "1.0"))):
+    for trap in ("false", "true"):
+        tag = f"({scene_name}, exact_trap = {trap})"
+        name = f"settle_{scene_name}_{trap}"
+        early, _ = run(SETTLE.format(scene=scene, trap=trap, early="true", formulas=formulas), name)
+        full, _ = run(SETTLE.format(scene=scene, trap=trap, early="false", formulas=formulas),
+                      name + "_full")
+        if early is None or full is None:
+            continue
+        t = early["t"][...]
+        settle = early["settle_time"][...]
+        check(f"every lane settled {tag}", np.all(np.isfinite(settle)), f"{settle}")
+        tq, fq = early["traj_q"][...], full["traj_q"][...]
+        kept = ~np.isnan(tq)
+        check(f"the full run's trajectory is finite {tag}", np.all(np.isfinite(fq)))
+        for v in ("traj_q", "traj_p") + (("traj_E",) if formulas else ()):
+            a, b = early[v][...], full[v][...]
+            check(f"{v}: the full run's bits where the lane ran, NaN after {tag}",
+                  same(a[kept], b[kept]) and np.all(np.isnan(a[~kept])),
+                  f"{np.sum((a == 0.0) & (b != 0.0))} zeros where the lane had not run")
+        # NaN after the lane's end only, never before its settle time: samples at t <= settle
+        # are all there, and every lane has its first sample (t_start).
+        before = t[None, None, :] <= settle[..., None]
+        check(f"no sample missing up to the settle time {tag}", np.all(kept[before]) and
+              np.all(kept[..., 0]))
+        if trap == "true":
+            # below the barrier at the start: decided there, the first sample its only one
+            at_start = settle == 0.0
+            check(f"a lane the trap settles at t_start has one sample, the others more {tag}",
+                  np.any(at_start) and np.all(kept.sum(axis=-1)[at_start] == 1) and
+                  np.all(kept.sum(axis=-1)[~at_start] > 1))
+        else:
+            check(f"anchors settle the lanes mid-run {tag}",
+                  np.all(settle > 0.0) and np.all(kept.sum(axis=-1) > 1) and np.any(~kept))
+        if formulas:
+            # the window's statistics are over the samples the lane had, as for a stop inside it
+            E = np.where(kept, early["traj_E"][...], np.nan)
+            mean = np.array([np.cumsum(e[~np.isnan(e)])[-1] / np.sum(~np.isnan(e))
+                             for e in E.reshape(-1, E.shape[-1])]).reshape(E.shape[:-1])
+            check(f"mean_E over the samples up to the lane's end {tag}",
+                  same(early["mean_E"][...], mean))
+            check(f"min_E, max_E over them {tag}", same(early["min_E"][...], np.nanmin(E, axis=-1))
+                  and same(early["max_E"][...], np.nanmax(E, axis=-1)))
+
 print(f"{runs.failures} failed")
 sys.exit(1 if runs.failures else 0)

@@ -103,9 +103,12 @@ class LaneWriter {
       out_.columns[static_cast<std::size_t>(map.trap_verdict)][static_cast<std::size_t>(verdict)] += 1.0;
     if (status == LaneStatus::ok && !finite) status = LaneStatus::non_finite;
     column(map.status, k)[0] = static_cast<double>(status);
-    if (plan_.samples > 0 && status != LaneStatus::ok) {
+    if (plan_.samples > 0) {
       // A failed lane's trajectory ends where it failed: every sample not recorded while it was
-      // healthy is NaN, including one due at the look that found it failed (b.n).
+      // healthy is NaN, including one due at the look that found it failed (b.n). So does a
+      // healthy lane's that ended before t_end (its basin settled with early stop, or a stop):
+      // the samples it never reached were left at the columns' zeros, values a trajectory can
+      // hold. A lane that ran to t_end recorded every sample: nothing to do.
       for (auto s = b.samples_recorded; s < plan_.samples; ++s) {
         for (int i = 0; i < kMaxVars; ++i)
           if (map.traj_vars[i] >= 0) column(map.traj_vars[i], k)[s] = nan;

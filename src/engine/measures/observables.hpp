@@ -315,7 +315,9 @@ class FormulaTracker {
         for (int k = 0; k < o_.observables; ++k) column(o_.trajectory[k], b.point)[s] = nan;
       }
     }
-    if (!stopped && status != LaneStatus::ok && plan_.samples > 0)
+    // A failed lane, or a healthy one that ended before t_end without a stop (its basin settled
+    // with early stop): its observables' samples after its last one are NaN, as its state's.
+    if (!stopped && plan_.samples > 0)
       for (auto s = b.samples_recorded; s < plan_.samples; ++s)
         for (int k = 0; k < o_.observables; ++k) column(o_.trajectory[k], b.point)[s] = nan;
   }
