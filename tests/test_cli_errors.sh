@@ -273,6 +273,10 @@ k_expect "observe: syntax error, with its column" "measures.observe.E: 'p^2 + * 
 k_expect "observe_window outside the run" \
   "measures.observe_window = { from = 0.5, to = 2 }: expected 0 <= from <= to <= t_end = 1" \
   'K = "p^2/2 + q^2/2"' '' '' $'observe = { E = "p^2" }\nobserve_window = { from = 0.5, to = 2.0 }'
+expect "observe_window: --set of an end outside the run names the argument" 2 \
+  "--set measures.observe_window.to=3: measures.observe_window = { from = 0.5, to = 3 }: expected 0 <= from <= to <= t_end = 1" \
+  "$d" -- "$bin" run "$(k_spec window_set 'K = "p^2/2 + q^2/2"' '' '' $'observe = { E = "p^2" }\nobserve_window = { from = 0.5, to = 1.0 }')" \
+  -o k.h5 --set measures.observe_window.to=3
 k_expect "observe_window holding no sample" \
   "holds no sample: samples come every 0.5 time units (trajectory.every = 50 steps of h = 0.01)" \
   'K = "p^2/2 + q^2/2"' '' '' $'trajectory = { every = 50 }\nobserve = { E = "p^2" }\nobserve_window = { from = 0.6, to = 0.9 }'

@@ -66,8 +66,11 @@ void SpecReader::read_observe(const toml::table& measures) {
     if (from == nullptr || to == nullptr)
       fail(window, fmt::format("{}: give both ends, {{ from = ..., to = ... }}", key));
     const double a = number(*from, key + ".from"), b = number(*to, key + ".to");
+    // The message is placed at the end out of range (a --set of it names the argument), at the
+    // table when the ends are in the wrong order.
+    const toml::node* at = !(spec_.t_start <= a) ? from : !(b <= spec_.t_end) ? to : window;
     if (!(spec_.t_start <= a && a <= b && b <= spec_.t_end))
-      fail(window, fmt::format("{} = {{ from = {}, to = {} }}: expected {} <= from <= to <= "
+      fail(at, fmt::format("{} = {{ from = {}, to = {} }}: expected {} <= from <= to <= "
                                "t_end = {}",
                                key, a, b,
                                spec_.t_start == 0.0 ? std::string("0")
