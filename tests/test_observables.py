@@ -13,6 +13,10 @@
   * stop on the damped oscillator's first zero of q: within one step h after the closed form;
   * a stopped lane's final_* is its state at the stop (the same bits as the trajectory of a run
     without stop at that step), its trajectory NaN after it, stop_time NaN where it never held;
+  * the stop and a window without trajectory, lane by lane against numpy on every step of the
+    built-in kernel's trajectory (240 lanes, per-lane parameters): stops inside a chunk, on a
+    chunk's last step and in the finisher, windows from a lane's load and from a chunk's end,
+    NaN marks, z carried alone, and z2_damping's z fed back but not carried;
   * exit basins (damped Henon-Heiles): every stopped lane labelled by its channel, the exits
     numbered before the attractors (attractor_period -1);
   * the same bits on 1x1, 1x2 and 2x1 ranks x threads with observe, window, stop and basin on.
@@ -197,6 +201,102 @@ if traj is not None and windowed is not None:
         ok = ok and same(windowed["min_E"][k], E.min()) and same(windowed["max_E"][k], E.max())
         ok = ok and same(windowed["final_E"][k], E[-1])
     check("window statistics of a stopped lane = numpy on its steps up to the stop", ok)
+
+# ---- the every-step work against numpy, lane by lane -------------------------------------------
+# The stop's flags and a window without trajectory are computed after every step inside a step
+# kernel's loop, and a flagged lane is stepped again from its chunk's snapshot. Against numpy on
+# every step of the built-in kernel's trajectory (a kernel compiled ahead of time, without
+# formulas): stop_time the first step where the condition holds, final_* the state there,
+# mean_/min_/max_ over the window's steps up to the stop (NaN where an observable was NaN on
+# one of them), all bit for bit. 240 lanes over 6 omegas (per-lane parameters; more than one
+# tile) from t_start = 0.5 (the clock every step's work reads) to t_end = 10.55: 1005 steps, 31
+# chunks of 32 and 13 in the finisher. The stop "q < -1.2 or omega*(t - 0.5) > 6.395" holds
+# first at step 640 (a chunk's last) where omega = 1, at
+# step 1000 (in the finisher) where omega = 0.64 and q never went below -1.2, and never for
+# the small q_0 of the low omegas; window A starts at step 0 (a lane's first sample, taken at
+# its load) and ends at step 640, window B starts at step 32 (a chunk's last) and runs to t_end.
+# With z2_damping z feeds back while the run carries none of it (final q, p): the rerun from
+# the snapshot needs z all the same. Each of these went unseen by the checks above: the
+# finisher's flags and samples written to the main tile's slots; the stop's flag at the time of
+# the step before; the snapshot's z saved where the kernel carries mu (z alone carried) or not
+# where z feeds back but is not in the plan's carry; min restored from the snapshot's max;
+# lane 63's flag left out of the screen; the window's first sample at a lane's load dropped; a
+# chunk ending on the window's first step skipped; the NaN mark not moved to the finisher; the
+# every-step window's parameters lane 0's for every lane; the step loop's clock started at 0.
+EVERY_STEP = """
+[scene]
+name = "{scene}"
+omega = 1.0
+gamma = 0.15
+[initial]
+z = 0.5
+[integrator]
+method = "hybrid_leapfrog"
+h = 0.01
+t_start = 0.5
+t_end = 10.55
+[grid]
+omega = {{ values = [0.3, 0.31, 0.32, 0.64, 1.0, 1.7] }}
+q_0 = {{ from = 0.2, to = 2.5, n = 40 }}
+[measures]
+{extra}"""
+EVERY_STEP_FORMULAS = {
+    "damped_oscillator": 'observe = { E = "p^2/2 + omega^2*(q^2/2)", Z = "q - gamma*z", N = "sqrt(q + 1)" }\n'
+                         'final_state = { vars = ["q", "p", "z"] }\n',
+    "z2_damping": 'observe = { E = "p^2/2 + omega^2*(q^2/2)", N = "sqrt(q + 1)" }\n'
+                  'final_state = { vars = ["q", "p"] }\n'}
+for scene, formulas in EVERY_STEP_FORMULAS.items():
+    ref, _ = run(EVERY_STEP.format(scene=scene, extra='final_state = { vars = ["q", "p", "z"] }\n'
+                                                      'trajectory = { every = 1 }\n'), f"every_step_ref_{scene}")
+    if ref is None:
+        continue
+    t_start, h, steps, gamma, n_lanes = 0.5, 0.01, 1005, 0.15, 240
+    q, p, z = (ref[f"traj_{v}"][...].reshape(n_lanes, steps + 1) for v in "qpz")
+    omega = np.repeat([0.3, 0.31, 0.32, 0.64, 1.0, 1.7], 40)[:, None]
+    t = t_start + np.arange(steps + 1) * h  # the runner's clock
+    with np.errstate(invalid="ignore"):
+        values = {"E": p**2 / 2 + omega**2 * (q**2 / 2), "Z": q - gamma * z, "N": np.sqrt(q + 1)}
+    if scene == "z2_damping":
+        del values["Z"]
+    held = (q < -1.2) | (omega * (t - 0.5) > 6.395)
+    stop = np.where(held.any(axis=1), held.argmax(axis=1), -1)
+    end = np.where(stop >= 0, stop, steps)
+    lanes = np.arange(n_lanes)
+    nan_in_a = [any(np.isnan(v[k, : min(end[k], 640) + 1]).any() for v in values.values()) for k in lanes]
+    check(f"{scene}: the lanes stop in a chunk, on a chunk's last step, in the finisher, never; "
+          f"some have NaN in the window",
+          np.sum((stop > 0) & (stop < 640)) > 0 and np.sum(stop == 640) > 0 and
+          np.sum(stop > 992) > 0 and np.sum(stop < 0) > 0 and 0 < sum(nan_in_a) < n_lanes,
+          f"{np.unique(stop, return_counts=True)}")
+    for tag, (start, stop_at) in {"A": (0.5, 6.9), "B": (0.82, 10.55)}.items():
+        # the window's steps as the program rounds them (observe_plan.cpp): A 0 to 640, B 32 to 1005
+        first = math.ceil((start - t_start) / h - 1e-9)
+        last = min(math.floor((stop_at - t_start) / h + 1e-9), steps)
+        window = f"from = {start}, to = {stop_at}"
+        f, _ = run(EVERY_STEP.format(scene=scene, extra=formulas +
+                                     f'stop = {{ when = "q < -1.2 or omega*(t - 0.5) > 6.395" }}\n'
+                                     f"observe_window = {{ {window} }}\n"), f"every_step_{scene}_{tag}")
+        if f is None:
+            continue
+        got = lambda name: f[name][...].reshape(n_lanes)  # noqa: E731
+        check(f"{scene} {tag}: stop_time = the first step where the condition holds, bit for bit",
+              same(got("stop_time"), np.where(stop >= 0, t[stop], np.nan)),
+              f"lanes {np.nonzero(bits(got('stop_time')) != bits(np.where(stop >= 0, t[stop], np.nan)))[0][:8]}")
+        finals = {"q": q, "p": p} | ({"z": z} if "Z" in values else {}) | values
+        wrong = [n for n, v in finals.items() if not same(got(f"final_{n}"), v[lanes, end])]
+        check(f"{scene} {tag}: final_* at the stop (at t_end where none), bit for bit", not wrong, f"{wrong}")
+        wrong = []
+        for name, v in values.items():
+            expected = {s: np.full(n_lanes, np.nan) for s in ("mean", "min", "max")}
+            for k in lanes:
+                top = min(last, end[k])
+                if top < first or any(np.isnan(w[k, first: top + 1]).any() for w in values.values()):
+                    continue
+                x = v[k, first: top + 1]
+                expected["mean"][k], expected["min"][k], expected["max"][k] = np.cumsum(x)[-1] / len(x), x.min(), x.max()
+            wrong += [f"{s}_{name}" for s in expected if not same(got(f"{s}_{name}"), expected[s])]
+        check(f"{scene} {tag}: mean_, min_, max_ over the window's steps up to the stop = numpy, "
+              f"bit for bit", not wrong, f"{wrong}")
 
 # The exit channel as a formula (rounded to the nearest whole number), and exits in a basin map.
 labelled, _ = run(STOP.format(gamma=0.1, method="rk4", h=0.01, extra="basin = { exact_trap = false }").replace(
