@@ -22,7 +22,8 @@ samples inside steps (BlockRunner's DenseOutput; docs/performance.md, "only what
   kernel's; with a stop and a window without trajectory (their work after every step in the
   step kernel's loop) its final states, statistics and stop times are the bits of a whole
   kernel's (the same run with lyapunov). Its basin map with formulas: a step kernel with the
-  trap's uses of K, whose map, stops and statistics are the bits of a whole kernel's.
+  trap's uses of K, whose map is the built-in kernel's bits, its stops and statistics a whole
+  kernel's.
 * The double well as K with dop853 and final states alone: no dense output compiled in; with
   a trajectory it is, and the final states are the same bits (samples never change the steps).
 """
@@ -210,6 +211,22 @@ if map_observed and map_whole:
         check("the built-in's map on a step kernel: the bits of the whole kernel's",
               len(names) >= 8 and all(np.array_equal(a[n][...], b[n][...], equal_nan=True)
                                       for n in names),
+              f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")
+
+# The same map with observe alone against the built-in kernel's (compiled ahead of time, no
+# formulas): the step kernel's trap decides as the built-in's, bit for bit (a step kernel whose
+# trap went unused settled every lane later: settle_time differed while every check above held).
+BUILTIN_MAP = BUILTIN.replace("final_state = true", "final_state = true\nbasin = {}")
+builtin_map, _ = runs.launch(BUILTIN_MAP, "well_builtin_map")
+observed_map, found = run_in_fresh_cache(BUILTIN_MAP + 'observe = { E = "p^2/2 + (q^2 - a*a)^2/2" }\n',
+                                         "well_builtin_map_observe_only", parts=MAPPERS + (STEP_ENTRY,))
+check("built-in double well's basin map with observe alone: a step kernel with the wells' search",
+      list(found.values()) == [{STEP_ENTRY, "WellFinder<"}], f"{found}")
+if builtin_map and observed_map:
+    with h5py.File(builtin_map, "r") as a, h5py.File(observed_map, "r") as b:
+        names = [n for n in a if n in ("basin", "settle_time", "status") or n.startswith("final_")]
+        check("its basin, settle_time and final states: the built-in kernel's bits",
+              len(names) >= 6 and all(np.array_equal(a[n][...], b[n][...], equal_nan=True) for n in names),
               f"{[n for n in names if not np.array_equal(a[n][...], b[n][...], equal_nan=True)]}")
 
 DOP853 = WELL.replace('method = "hybrid_leapfrog"', 'method = "dop853"\nrtol = 1e-9')
