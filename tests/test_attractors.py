@@ -12,7 +12,8 @@ Each check runs real specs and compares with what theory says:
   * labels and table do not depend on ranks or threads (1x1, 1x2, 2x1, 3x1) on its fractal map
     (gamma = 0.08, S_bb > ln 2);
   * a forced linear oscillator: one attractor on the stroboscopic map at its closed form (A, B*Omega),
-    and a period-2 cycle {(A, B*Omega), (-A, -B*Omega)} when sampled every half period;
+    each lane's settle_time the time of the sample that opened its settled run, recomputed from
+    its samples by the documented cycle search, and a period-2 cycle {(A, B*Omega), (-A, -B*Omega)} when sampled every half period;
   * an undamped oscillator: nothing settles, every label is 0, the table is empty, exit 0.
 """
 import math
@@ -209,6 +210,49 @@ if fl:
     check("forced linear oscillator: at (A, B*Omega) to 1e-5 (closed form)",
           abs(t["attractor_q"][0] - A) < 1e-5 and abs(t["attractor_p"][0] - B * OMEGA) < 1e-5,
           f"{t} vs {(A, B * OMEGA)}")
+# settle_time on the stroboscopic map: the time of the sample that opened the run that settled
+# (docs/basins.md). Recomputed from the lane's samples at t = k*period (a trajectory every
+# period of the same map without early stop: the same states, bit for bit) by the cycle search
+# as documented: per period m <= 8 a run anchored at m samples, a sample within the tolerance of
+# its anchor counts, another starts a new run at the last m samples; `dwell` matches settle it.
+def strobe_settle(samples, tolerance, dwell, max_period=8):
+    """(period, index of the sample that opened the settled run) of one lane, or (0, None)."""
+    runs_ = [None] * (max_period + 1)  # per m: [start, matched]
+    for k in range(len(samples)):
+        for m in range(1, max_period + 1):
+            if k < m - 1:
+                continue
+            r = runs_[m]
+            if r is not None and k >= r[0] + m:
+                anchor = samples[r[0] + (k - r[0]) % m]
+                if np.max(np.abs(samples[k] - anchor)) <= tolerance:
+                    r[1] += 1
+                    if r[1] >= dwell:
+                        return m, r[0]
+                    continue
+            runs_[m] = [k - m + 1, 0]
+    return 0, None
+
+
+dwell_periods = 16  # the default dwell on the stroboscopic map
+watched = run(FL.replace("{strobe}", repr(period)).replace(
+    "tolerance = 1e-6 }", "tolerance = 1e-6, early_stop = false }\ntrajectory = { every = 256 }"),
+    "forced_linear_traj")
+if fl and watched:
+    q, p = watched["traj_q"][...], watched["traj_p"][...]  # (q_0, p_0, sample)
+    q, p = q.reshape(-1, q.shape[-1]), p.reshape(-1, p.shape[-1])
+    expected = np.full(q.shape[0], np.nan)
+    for lane in range(q.shape[0]):
+        m, start = strobe_settle(np.stack([q[lane], p[lane]], axis=1), 1e-6, dwell_periods)
+        if m:
+            expected[lane] = start * period
+    got = fl["settle_time"][...].ravel()
+    check("forced linear oscillator: every lane settles, its settle_time the opening sample's "
+          "time k*period recomputed from its samples (to rounding of k*period)",
+          np.isfinite(expected).all() and np.allclose(got, expected, rtol=1e-13, atol=0)
+          and len(np.unique(np.round(expected / period))) > 3,
+          f"{np.count_nonzero(~np.isclose(got, expected, rtol=1e-13, atol=0))} lanes differ; "
+          f"{got[:6]} vs {expected[:6]}")
 half = run(FL.replace("{strobe}", repr(period / 2)), "forced_linear_half")
 if half:
     t = table(half)
