@@ -296,6 +296,19 @@ expect "built-in scene: observe of a parameter it lacks" 2 \
   "$bin" run "$(spec_with observe_builtin 's/^final_state = true/final_state = true\nobserve = { E = "omega*q" }/')" -o obs.h5
 expect "built-in scene: stop under mpirun, unknown symbol" 2 "measures.stop.when" "$d" -- \
   $mpiexec -np 2 "$bin" run "$(spec_with stop_builtin 's/^final_state = true/final_state = true\nstop = { when = "q1 > 0" }/')" -o obs.h5
+# The start is decided before a kernel is built: a K's output finished (its kernel built into
+# another cache), then asked for again without --force, or resumed with another spec or a new
+# formula, is refused at once; it used to compile the new kernel first (1.5 s and more).
+k_done=$(k_spec finished 'K = "p^2/2 + q^2/2 - 0.1*z"' '' '' 'observe = { E = "p^2/2 + q^2/2" }')
+CONTACTSWEEP_CACHE=$work/setup_cache "$bin" run "$k_done" -o "$d/k_done.h5" --quiet </dev/null ||
+  echo "FAIL  setup run of a K"
+mkdir -m 700 "$d/k_cache"  # each case's own: a kernel built into it changes the directory
+expect "K: existing output without --force, before any kernel is built" 2 "pass --force" "$d" -- \
+  env CONTACTSWEEP_CACHE="$d/k_cache" "$bin" run "$k_done" -o k_done.h5
+expect "K: --resume with another h, before any kernel is built" 2 "not made by this spec" "$d" -- \
+  env CONTACTSWEEP_CACHE="$d/k_cache" "$bin" run "$k_done" -o k_done.h5 --resume --set integrator.h=0.005
+expect "K: --resume with a changed formula, before any kernel is built" 2 "not made by this spec" "$d" -- \
+  env CONTACTSWEEP_CACHE="$d/k_cache" "$bin" run "$k_done" -o k_done.h5 --resume --set 'measures.observe.E="p^2/2"'
 if [[ -z $(ls "$CONTACTSWEEP_CACHE" 2>/dev/null) ]]; then
   echo "ok    K: no refused spec built a kernel"
   passed=$((passed + 1))

@@ -432,17 +432,12 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
   auto slices = step_size_slices(spec, *scene, *method, slice_specs);
   std::vector<const RunPlan*> slice_plans;
   for (const auto& slice : slices) slice_plans.push_back(slice.get());
-  if (runs_on_step_kernel(slice_plans)) {
-    const StepKernel* kernel = step_kernel(plan, options, comm);
-    for (auto& slice : slices) slice->step_kernel = kernel;
-  } else if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
-    const KernelFn kernel = custom_kernel(plan, slices, options, comm);
-    for (auto& slice : slices) slice->custom_kernel = kernel;
-  }
   SweepSummary summary;
   summary.points = plan.grid.size();
-  auto start_time = std::chrono::steady_clock::now();
 
+  // The start is decided before any kernel is built: an output that needs --force, a --resume
+  // of another spec's output or a run that is already complete is answered at once, not after
+  // seconds of compiling a K (the journal's lock is held meanwhile; a failed build leaves none).
   const std::int64_t block_size = choose_block_size(plan.grid.size(), spec.steps);
   const std::string run_id = run_identity(spec.spec_text, plan.grid.size(), block_size);
   check_same_run(run_id, c);
@@ -453,6 +448,14 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     summary.already_complete = true;
     return summary;
   }
+  if (runs_on_step_kernel(slice_plans)) {
+    const StepKernel* kernel = step_kernel(plan, options, comm);
+    for (auto& slice : slices) slice->step_kernel = kernel;
+  } else if (spec.custom || plan.carry.tangent || has_measure_formulas(spec.measures)) {
+    const KernelFn kernel = custom_kernel(plan, slices, options, comm);
+    for (auto& slice : slices) slice->custom_kernel = kernel;
+  }
+  auto start_time = std::chrono::steady_clock::now();
 
   auto blocks = my_blocks(slices, block_size, c);
   std::int64_t local_points = 0;
