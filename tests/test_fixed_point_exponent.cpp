@@ -117,5 +117,39 @@ TEST(FixedPointExponent, KWithTwoDegreesOfFreedomRings) {
   EXPECT_NEAR(lambda, -gamma / 2, 1e-12);
 }
 
+// A cotangent lift K = p·F(q) (van der Pol, Lorenz as K): the Jacobian at (q*, p = 0) is
+// [[DF, 0], [·, −DFᵀ]]; p carries the adjoint, whose exponents are the q system's negated. λ₁ is
+// the q system's (as the orbit's tangent, seeded in q alone there, measures it), not the largest
+// of ±its spectrum: a stable point of F would read as unstable.
+TEST(FixedPointExponent, CotangentLiftTakesTheQSystemsExponents) {
+  // q1' = q2, q2' = −w2 q1 − g q2: overdamped, (−g ± √(g² − 4w2))/2 = −0.38 and −2.62; the
+  // adjoint's +2.62 must not be λ₁. Parameters sorted: g, w2.
+  const double g = 3.0, w2 = 1.0;
+  EXPECT_NEAR(exponent_of("K = \"p1*q2 + p2*(-w2*q1 - g*q2)\"\ng = 3.0\nw2 = 1.0", {g, w2},
+                          {0.0, 0.0, 0.0, 0.0, 0.0}),
+              0.5 * (-g + std::sqrt(g * g - 4.0 * w2)), kTolerance);
+  // Lorenz at r = 10 < r_H: C± = (±√(b(r−1)), ±√(b(r−1)), r−1) attract. The characteristic
+  // polynomial λ³ + (s+b+1)λ² + b(s+r)λ + 2bs(r−1) has one real root ρ (Newton from −s−b−1)
+  // and a complex pair whose real part is (−(s+b+1) − ρ)/2 by the trace: λ₁ = that part.
+  const double s = 10.0, r = 10.0, b = 8.0 / 3.0;
+  double rho = -(s + b + 1.0);
+  for (int i = 0; i < 50; ++i) {
+    const double f = ((rho + s + b + 1.0) * rho + b * (s + r)) * rho + 2.0 * b * s * (r - 1.0);
+    const double df = (3.0 * rho + 2.0 * (s + b + 1.0)) * rho + b * (s + r);
+    rho -= f / df;
+  }
+  const double pair = 0.5 * (-(s + b + 1.0) - rho);
+  ASSERT_GT(pair, rho);  // the pair's real part is the largest, and < 0: C± attract
+  ASSERT_LT(pair, 0.0);
+  const double c = std::sqrt(b * (r - 1.0));
+  const std::string lorenz =
+      "K = \"p1*(s*(q2 - q1)) + p2*(q1*(r - q3) - q2) + p3*(q1*q2 - b*q3)\"\n"
+      "s = 10.0\nr = 10.0\nb = 2.6666666666666665";
+  // Parameters sorted: b, r, s. Entries of size up to 13: a few ulp of that.
+  for (const double sign : {1.0, -1.0})
+    EXPECT_NEAR(exponent_of(lorenz, {b, r, s}, {sign * c, sign * c, r - 1.0, 0.0, 0.0, 0.0, 0.0}),
+                pair, 1e-13);
+}
+
 }  // namespace
 }  // namespace cs
