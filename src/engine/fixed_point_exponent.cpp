@@ -34,18 +34,22 @@ double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& para
   std::vector<std::string> order;
   for (const auto& parameter : plan.scene.parameters) order.push_back(parameter.name);
   std::vector<double> entries;
-  int n = 0;
+  int n = 0, m = 0;
   {
     const std::lock_guard<std::mutex> lock(mutex);
     auto key = std::make_pair(k_of(plan), order);
     auto it = known.find(key);
     if (it == known.end()) it = known.emplace(key, ContactJacobian(key.first, order)).first;
     n = it->second.size();
+    // A cotangent lift: the q system's block alone. The p rows carry its adjoint, whose
+    // exponents are its own negated: at an attracting point of F they would be the largest and
+    // positive (Lorenz at r = 10: +12.48 for −0.60). The orbit seeds q alone there too.
+    m = it->second.q_closed() ? it->second.dof() : n;
     entries = it->second.at(params, state, plan.spec.t_start);
   }
-  Eigen::MatrixXd jacobian(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) jacobian(i, j) = entries[static_cast<std::size_t>(i * n + j)];
+  Eigen::MatrixXd jacobian(m, m);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) jacobian(i, j) = entries[static_cast<std::size_t>(i * n + j)];
   if (!jacobian.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   const Eigen::EigenSolver<Eigen::MatrixXd> solver(jacobian, false);
   if (solver.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();

@@ -6,6 +6,9 @@
 // finite-time error (the damped oscillator's −γ/2). J comes from K's exact partials
 // (formula/contact_jacobian.hpp), so a built-in scene and the same K written in the spec get the
 // same bits. It is the flow's exponent, not the integrator's map's, which differs by O(h^order).
+// Where q' = K_p reads neither p nor z (a cotangent lift K = p·F(q)) it is the q system's, from
+// J's q block: p carries the adjoint, whose exponents are the q system's negated (the orbit's
+// tangent is seeded in q alone there for the same reason).
 #pragma once
 
 #include <vector>

@@ -12,7 +12,8 @@ namespace cs {
 using namespace k_formula;
 
 struct ContactJacobian::Symbolic {
-  int n = 0;
+  int n = 0, dof = 0;
+  bool q_closed = false;
   std::vector<ex> entries;  // n × n, row-major
   // The symbols and where their values come from: (symbol, index into the parameters, or
   // −1 − k for state component k, or kTime).
@@ -41,6 +42,11 @@ ContactJacobian::ContactJacobian(const std::string& k, const std::vector<std::st
   if (with_z) field.push_back(parsed.K - p_kp);
   for (const ex& f : field)
     for (const auto& xj : x) s->entries.push_back(f.diff(xj));
+  s->dof = D;
+  s->q_closed = true;
+  for (int i = 0; i < D; ++i)
+    for (int j = D; j < s->n; ++j)
+      s->q_closed = s->q_closed && s->entries[static_cast<std::size_t>(i * s->n + j)].expand().is_zero();
   for (int d = 0; d < D; ++d) s->symbols.emplace_back(parsed.q[d], -1 - d);
   for (int d = 0; d < D; ++d) s->symbols.emplace_back(parsed.p[d], -1 - (D + d));
   s->symbols.emplace_back(parsed.z, -1 - 2 * D);
@@ -56,6 +62,8 @@ ContactJacobian::ContactJacobian(const std::string& k, const std::vector<std::st
 }
 
 int ContactJacobian::size() const { return symbolic_->n; }
+int ContactJacobian::dof() const { return symbolic_->dof; }
+bool ContactJacobian::q_closed() const { return symbolic_->q_closed; }
 
 std::vector<double> ContactJacobian::at(const std::vector<double>& parameters,
                                         const std::vector<double>& state, double t) const {

@@ -22,6 +22,11 @@ class ContactJacobian {
   ContactJacobian(const std::string& k, const std::vector<std::string>& parameter_order);
   // The state's components it reads and differentiates by: 2·dof, and z where it feeds back.
   int size() const;
+  int dof() const;
+  // q' = K_p reads neither p nor z (a cotangent lift K = p·F(q)): the Jacobian's q rows vanish
+  // identically in the p and z columns, so the q system is one of its own and its dof × dof
+  // block holds its exponents; the rest are the adjoint's, the q system's negated.
+  bool q_closed() const;
   // The size() × size() matrix, row-major, at q.., p.., z (state: at least 2·dof + 1 values)
   // and t; NaN entries where one is not real or finite there (a pole).
   std::vector<double> at(const std::vector<double>& parameters, const std::vector<double>& state,
