@@ -8,6 +8,7 @@
 #include "engine/attractor_table.hpp"
 #include "engine/measures/observe_plan.hpp"
 #include "engine/run_plan.hpp"
+#include "engine/scene_form.hpp"
 
 namespace cs {
 namespace {
@@ -21,6 +22,16 @@ bool table_fixed_point(const RunPlan& plan, const Attractor& a) {
   return !stroboscopic(plan) && a.period == 1;
 }
 
+// Is the Jacobian at the table's point the fixed point's linearisation? The table holds q and p
+// alone, and the Jacobian is taken at the source lane's initial z and at t_start. Where z feeds
+// back, the fixed point has a z* of its own (K(q*, p*, z*) = 0: z' = K − p·K_p), which the lane
+// reached and the table does not hold (K = p²/2 + q²/2 + c − γz²: −γ·z0 instead of −γ√(c/γ));
+// where K reads t, the linearisation at t_start is not the one the lanes settle under. There
+// the orbit describes the point, as any other attractor.
+bool exact_at_fixed_points(const RunPlan& plan) {
+  return !plan.scene.z_feeds_back && !reads_time(plan.spec, plan.scene);
+}
+
 // What the table and the orbit say (classify adds the exact λ₁ of fixed points).
 AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                             const AttractorOrbit* orbit);
@@ -28,13 +39,15 @@ AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const Orbit
 }  // namespace
 
 bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
+  const bool exact = exact_at_fixed_points(plan);
   for (const Attractor& a : table)
-    if (!table_fixed_point(plan, a) && a.period != kExitPeriod) return true;
+    if (!(exact && table_fixed_point(plan, a)) && a.period != kExitPeriod) return true;
   return false;
 }
 
 bool may_need_orbits(const RunPlan& plan) {
-  return plan.map.basin >= 0 && (stroboscopic(plan) || plan.recurrence.enabled);
+  return plan.map.basin >= 0 &&
+         (stroboscopic(plan) || plan.recurrence.enabled || !exact_at_fixed_points(plan));
 }
 
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
@@ -96,7 +109,7 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                            const AttractorOrbit* orbit, FixedPointExponentFn fixed) {
   AttractorAnalysis out = described(plan, a, request, orbit);
-  if (fixed != nullptr && table_fixed_point(plan, a))
+  if (fixed != nullptr && table_fixed_point(plan, a) && exact_at_fixed_points(plan))
     out.lyapunov = fixed(plan, request.params, request.state);
   return out;
 }

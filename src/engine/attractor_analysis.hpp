@@ -71,8 +71,9 @@ struct AttractorAnalysis {
 };
 
 // Does describing `table` need the kernel's orbits? Not where every attractor is a fixed point
-// of an autonomous scene (the energy trap's and the anchor test's): those are described from
-// the table alone, so such maps build no kernel.
+// of an autonomous scene (the energy trap's and the anchor test's) whose z does not feed back:
+// those are described from the table alone, so such maps build no kernel. (Where z feeds back
+// or K reads t, the table's point and the run's t_start do not fix the linearisation.)
 bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table);
 // Can the map's table hold such an attractor, before it is made? Where the recurrences or the
 // stroboscopic map look for attractors: the energy trap and the anchor test find fixed points.
@@ -81,7 +82,8 @@ bool may_need_orbits(const RunPlan& plan);
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
 
 // From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
-// point of the table takes its λ₁ from `fixed` where given (exact), else from the orbit.
+// point of the table takes its λ₁ from `fixed` where given (exact) and where z does not feed
+// back and K does not read t, else from the orbit.
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                            const AttractorOrbit* orbit, FixedPointExponentFn fixed = nullptr);
 
