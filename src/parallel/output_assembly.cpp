@@ -134,7 +134,12 @@ ColumnPiece receive_piece(int from, MPI_Comm comm) {
 // memory grows by at most kBatchValues doubles.
 class ColumnBatch {
  public:
-  ColumnBatch(OutputFile& file, const DatasetSpec& dataset) : file_(file), dataset_(dataset) {}
+  // `values`: how many the column holds in all. Its room is taken at once: grown by doubling, a
+  // 512² map's batch faulted in twice its size and copied itself six times at the end of the run.
+  ColumnBatch(OutputFile& file, const DatasetSpec& dataset, std::size_t values)
+      : file_(file), dataset_(dataset) {
+    values_.reserve(std::min(values, kBatchValues));
+  }
   void add(PointRange range, const std::vector<double>& values) {
     ranges_.push_back(range);
     values_.insert(values_.end(), values.begin(), values.end());
@@ -226,7 +231,10 @@ void write_output(const RunPlan& plan, const std::vector<std::unique_ptr<BlockRe
       continue;
     }
     std::optional<ColumnBatch> batch;
-    attempt([&] { batch.emplace(*file, dataset); });
+    attempt([&] {
+      batch.emplace(*file, dataset,
+                    static_cast<std::size_t>(plan.grid.size() * plan.columns[k].width));
+    });
     for (const auto& block : results) {
       const ExpandedBasin labels(plan, *block);
       attempt([&] { batch->add(block->range, block->columns[k]); });
