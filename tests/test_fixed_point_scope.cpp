@@ -36,9 +36,10 @@ struct Described {
   AttractorAnalysis analysis;
 };
 
-// The map's one fixed point at the origin (q, p) = (0, 0), its source lane the grid's first,
-// which starts at z = z0.
-Described describe(const std::string& scene_lines, double z0) {
+// The map's one fixed point at `point` (q, p), by default the origin, its source lane the
+// grid's first, which starts at z = z0.
+Described describe(const std::string& scene_lines, double z0,
+                   const std::vector<double>& point = {0.0, 0.0}) {
   const std::string text = "[scene]\n" + scene_lines +
                            "\n[initial]\nz = " + std::to_string(z0) +
                            "\n[integrator]\nmethod = \"rk4\"\nh = 0.01\nt_end = 100.0\n"
@@ -49,7 +50,7 @@ Described describe(const std::string& scene_lines, double z0) {
   Attractor a;
   a.label = 1;
   a.period = 1;
-  a.point = {0.0, 0.0};
+  a.point = point;
   a.source = 0;
   const std::vector<Attractor> table{a};
   const bool needs = needs_orbits(plan, table);
@@ -82,6 +83,50 @@ TEST(FixedPointScope, KThatReadsTimeIsDescribedByTheOrbit) {
   EXPECT_TRUE(d.needs_orbit);
   EXPECT_EQ(d.analysis.kind, AttractorKind::fixed_point);
   EXPECT_EQ(d.analysis.lyapunov, kOrbitLyapunov);
+}
+
+// A K that is smooth enough at the point but whose partials GiNaC writes in a form that is 0/0
+// there: sqrt(q^4) = q² has K_q = 2q³/√(q⁴), and |q|³ has K_qq = 6|q|²/|q|·…, undefined at
+// q = 0, where the exact linearisation is the damped oscillator's (V''(0) = 1: λ₁ = −γ/2 =
+// −0.125 with γ = 0.25). The Jacobian cannot give it there, and NaN is no exponent: the orbit
+// describes the point.
+TEST(FixedPointScope, PartialsUndefinedAtThePointAreDescribedByTheOrbit) {
+  for (const char* v : {"sqrt(q^4)/2", "q^2/2 + abs(q)^3"}) {
+    SCOPED_TRACE(v);
+    const Described d = describe(std::string("K = \"p^2/2 + ") + v + " - g*z\"\ng = 0.25", 0.0);
+    EXPECT_TRUE(d.needs_orbit);
+    EXPECT_EQ(d.analysis.kind, AttractorKind::fixed_point);
+    EXPECT_EQ(d.analysis.lyapunov, kOrbitLyapunov);
+  }
+  // GiNaC writes abs(q)^2 as q² for a real q: a Jacobian finite at 0, which keeps its −γ/2.
+  const Described d = describe("K = \"p^2/2 + abs(q)^2/2 - g*z\"\ng = 0.25", 0.0);
+  EXPECT_FALSE(d.needs_orbit);
+  EXPECT_NEAR(d.analysis.lyapunov, -0.125, 1e-15);
+}
+
+// V = q²/2 + 0.1|q| with γ = 0.5: rk4's lanes chatter across the kink at q = 0 and the anchor
+// test records a point beside it, (1.2·10⁻⁴, −6.2·10⁻³), where the field is no fixed point's:
+// p' = −q − 0.1 − γp ≈ −0.097, against the at most 2·‖J‖∞·tolerance = 3·10⁻³ a point within the
+// tolerance (10⁻³) of a fixed point can have. The Jacobian there (−γ/2 = −0.25) is no fixed
+// point's exponent: the orbit describes it.
+TEST(FixedPointScope, PointWhereTheFieldDoesNotVanishIsDescribedByTheOrbit) {
+  const std::string k = "K = \"p^2/2 + q^2/2 + 0.1*abs(q) - g*z\"\ng = 0.5";
+  for (const double sign : {1.0, -1.0}) {
+    const Described d = describe(k, 0.0, {sign * 1.2e-4, -sign * 6.2e-3});
+    EXPECT_TRUE(d.needs_orbit);
+    EXPECT_EQ(d.analysis.kind, AttractorKind::fixed_point);
+    EXPECT_EQ(d.analysis.lyapunov, kOrbitLyapunov);
+  }
+}
+
+// The rule's other side: a table point within the tolerance of the fixed point (the anchor
+// test's lane is anywhere within it) keeps the exact value. The damped oscillator with
+// g = 3 at (q, p) = (0.9, −0.9)·10⁻³ off its fixed point: ‖f‖∞ = 1.8·10⁻³ ≤ 2·‖J‖∞·10⁻³ = 8·10⁻³;
+// the Jacobian is constant, so λ₁ = (−3 + √5)/2 exactly as at the origin.
+TEST(FixedPointScope, PointWithinTheToleranceKeepsTheJacobian) {
+  const Described d = describe("K = \"p^2/2 + q^2/2 - g*z\"\ng = 3.0", 0.3, {0.9e-3, -0.9e-3});
+  EXPECT_FALSE(d.needs_orbit);
+  EXPECT_NEAR(d.analysis.lyapunov, 0.5 * (-3.0 + std::sqrt(5.0)), 1e-14);
 }
 
 }  // namespace
