@@ -53,7 +53,7 @@ Described describe(const std::string& scene_lines, double z0,
   a.point = point;
   a.source = 0;
   const std::vector<Attractor> table{a};
-  const bool needs = needs_orbits(plan, table);
+  const bool needs = needs_orbits(plan, table, &fixed_point_exponent);
   const auto analysis =
       analyse_attractors(plan, table, needs ? &stub_orbit : nullptr, &fixed_point_exponent);
   return {needs, analysis.at(0)};

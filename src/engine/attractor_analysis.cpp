@@ -32,16 +32,28 @@ bool exact_at_fixed_points(const RunPlan& plan) {
   return !plan.scene.z_feeds_back && !reads_time(plan.spec, plan.scene);
 }
 
+// The exact λ₁ of the table's fixed point `a` (request: its parameters and state), NaN where
+// there is none to take: not such a fixed point, no `fixed`, or `fixed` says it does not apply
+// there (its Jacobian undefined at the point, or the field not vanishing to within the table's
+// tolerance: fixed_point_exponent.cpp). needs_orbits and classify ask the same question.
+double exact_exponent(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                      FixedPointExponentFn fixed) {
+  if (fixed == nullptr || !table_fixed_point(plan, a) || !exact_at_fixed_points(plan)) return kNaN;
+  return fixed(plan, request.params, request.state, plan.attractors.tolerance);
+}
+
 // What the table and the orbit say (classify adds the exact λ₁ of fixed points).
 AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                             const AttractorOrbit* orbit);
 
 }  // namespace
 
-bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table) {
-  const bool exact = exact_at_fixed_points(plan);
-  for (const Attractor& a : table)
-    if (!(exact && table_fixed_point(plan, a)) && a.period != kExitPeriod) return true;
+bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table,
+                  FixedPointExponentFn fixed) {
+  for (const Attractor& a : table) {
+    if (a.period == kExitPeriod) continue;  // nothing to integrate
+    if (std::isnan(exact_exponent(plan, a, orbit_request(plan, a), fixed))) return true;
+  }
   return false;
 }
 
@@ -109,8 +121,8 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                            const AttractorOrbit* orbit, FixedPointExponentFn fixed) {
   AttractorAnalysis out = described(plan, a, request, orbit);
-  if (fixed != nullptr && table_fixed_point(plan, a) && exact_at_fixed_points(plan))
-    out.lyapunov = fixed(plan, request.params, request.state);
+  const double exact = exact_exponent(plan, a, request, fixed);
+  if (!std::isnan(exact)) out.lyapunov = exact;
   return out;
 }
 
@@ -165,7 +177,7 @@ AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const Orbit
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
                                                   const std::vector<Attractor>& table,
                                                   OrbitFn orbit, FixedPointExponentFn fixed) {
-  if (orbit == nullptr && needs_orbits(plan, table))
+  if (orbit == nullptr && needs_orbits(plan, table, fixed))
     throw std::logic_error("analyse_attractors: an orbit is needed but no kernel was built");
   std::vector<AttractorAnalysis> out(table.size());
   // Attractors are independent (each orbit reads its request alone): the threads share them,

@@ -59,9 +59,10 @@ struct AttractorOrbit {
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
-// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp).
+// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp), NaN where
+// it does not apply there: J not finite, or the state no fixed point to within `tolerance`.
 using FixedPointExponentFn = double (*)(const RunPlan&, const std::vector<double>& params,
-                                        const std::vector<double>& state);
+                                        const std::vector<double>& state, double tolerance);
 
 struct AttractorAnalysis {
   AttractorKind kind = AttractorKind::fixed_point;
@@ -71,23 +72,29 @@ struct AttractorAnalysis {
 };
 
 // Does describing `table` need the kernel's orbits? Not where every attractor is a fixed point
-// of an autonomous scene (the energy trap's and the anchor test's) whose z does not feed back:
-// those are described from the table alone, so such maps build no kernel. (Where z feeds back
-// or K reads t, the table's point and the run's t_start do not fix the linearisation.)
-bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table);
-// Can the map's table hold such an attractor, before it is made? Where the recurrences or the
-// stroboscopic map look for attractors: the energy trap and the anchor test find fixed points.
+// of an autonomous scene (the energy trap's and the anchor test's) whose z does not feed back
+// and where `fixed` gives its λ₁: those are described from the table alone, so such maps build
+// no kernel. (Where z feeds back or K reads t, the table's point and the run's t_start do not
+// fix the linearisation; where `fixed` gives NaN, its Jacobian is undefined at the point or the
+// point is no fixed point: the orbit describes it. Without `fixed`, every attractor.)
+bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table,
+                  FixedPointExponentFn fixed);
+// Can the map's table hold an attractor that needs one, before it is made? Where the
+// recurrences or the stroboscopic map look for attractors, or where z feeds back or K reads t.
+// Not where the energy trap and the anchor test find fixed points alone: a table whose point
+// falls back to its orbit all the same (needs_orbits) has its orbit kernel built after the map.
 bool may_need_orbits(const RunPlan& plan);
 
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
 
 // From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
 // point of the table takes its λ₁ from `fixed` where given (exact) and where z does not feed
-// back and K does not read t, else from the orbit.
+// back and K does not read t, and where `fixed` applies at the point (not NaN), else from the
+// orbit.
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                            const AttractorOrbit* orbit, FixedPointExponentFn fixed = nullptr);
 
-// Every attractor of the table; `orbit` may be null when !needs_orbits(plan, table).
+// Every attractor of the table; `orbit` may be null when !needs_orbits(plan, table, fixed).
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
                                                   const std::vector<Attractor>& table,
                                                   OrbitFn orbit,

@@ -11,15 +11,23 @@
 // tangent is seeded in q alone there for the same reason).
 #pragma once
 
+#include <limits>
 #include <vector>
 
 namespace cs {
 
 struct RunPlan;
 
-// `params` in the plan's scene's order, `state` q.., p.., z at the fixed point; NaN where J is
-// not finite. Safe from any thread (the formula's symbolic work is serialised).
+// `params` in the plan's scene's order, `state` q.., p.., z at the fixed point. NaN where the
+// Jacobian does not apply: an entry of J is not finite there (GiNaC's partials can be 0/0 at a
+// point where K is smooth: sqrt(q^4)), or, with a finite `tolerance` (a basin map's table:
+// its attractors' tolerance), (q', p') does not vanish there to within 2·τ·‖J‖∞ (max norms over
+// q and p; the rule and why: fixed_point_exponent.cpp), so the state is no fixed point: the
+// caller describes it by its orbit instead (attractor_analysis.hpp). With the default
+// tolerance the caller vouches for the state. Safe from any thread (the formula's symbolic work
+// is serialised).
 double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& params,
-                            const std::vector<double>& state);
+                            const std::vector<double>& state,
+                            double tolerance = std::numeric_limits<double>::infinity());
 
 }  // namespace cs

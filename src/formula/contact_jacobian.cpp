@@ -15,6 +15,7 @@ struct ContactJacobian::Symbolic {
   int n = 0, dof = 0;
   bool q_closed = false;
   std::vector<ex> entries;  // n × n, row-major
+  std::vector<ex> field;    // n
   // The symbols and where their values come from: (symbol, index into the parameters, or
   // −1 − k for state component k, or kTime).
   std::vector<std::pair<GiNaC::realsymbol, int>> symbols;
@@ -40,6 +41,7 @@ ContactJacobian::ContactJacobian(const std::string& k, const std::vector<std::st
     p_kp += parsed.p[d] * field[static_cast<std::size_t>(d)];
   }
   if (with_z) field.push_back(parsed.K - p_kp);
+  s->field = field;
   for (const ex& f : field)
     for (const auto& xj : x) s->entries.push_back(f.diff(xj));
   s->dof = D;
@@ -65,28 +67,47 @@ int ContactJacobian::size() const { return symbolic_->n; }
 int ContactJacobian::dof() const { return symbolic_->dof; }
 bool ContactJacobian::q_closed() const { return symbolic_->q_closed; }
 
-std::vector<double> ContactJacobian::at(const std::vector<double>& parameters,
-                                        const std::vector<double>& state, double t) const {
+namespace {
+
+// Each of `exprs` at the symbols' values: the double nearest its exact value, NaN where it is
+// not real or finite (a pole: 1/q at q = 0; 0/0: 2q³/√(q⁴) at q = 0) or where a value is not
+// finite.
+template <class Symbols>
+std::vector<double> evaluated(const std::vector<ex>& exprs, const Symbols& symbols, int time,
+                              const std::vector<double>& parameters,
+                              const std::vector<double>& state, double t) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   GiNaC::exmap values;
   bool finite = true;
-  for (const auto& [symbol, from] : symbolic_->symbols) {
-    const double v = from == Symbolic::kTime ? t
-                     : from < 0             ? state.at(static_cast<std::size_t>(-1 - from))
-                                            : parameters.at(static_cast<std::size_t>(from));
+  for (const auto& [symbol, from] : symbols) {
+    const double v = from == time ? t
+                     : from < 0   ? state.at(static_cast<std::size_t>(-1 - from))
+                                  : parameters.at(static_cast<std::size_t>(from));
     finite = finite && std::isfinite(v);
     values[symbol] = exact_of(std::isfinite(v) ? v : 0.0);
   }
-  std::vector<double> out(symbolic_->entries.size(), nan);
+  std::vector<double> out(exprs.size(), nan);
   if (!finite) return out;
   for (std::size_t i = 0; i < out.size(); ++i) {
     try {
-      const ConstantValue v = constant_value(symbolic_->entries[i].subs(values));
+      const ConstantValue v = constant_value(exprs[i].subs(values));
       if (v.kind == ConstantValue::finite) out[i] = v.value;
-    } catch (const std::exception&) {  // a pole: 1/q at q = 0
+    } catch (const std::exception&) {  // a pole, or 0/0
     }
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<double> ContactJacobian::at(const std::vector<double>& parameters,
+                                        const std::vector<double>& state, double t) const {
+  return evaluated(symbolic_->entries, symbolic_->symbols, Symbolic::kTime, parameters, state, t);
+}
+
+std::vector<double> ContactJacobian::field(const std::vector<double>& parameters,
+                                           const std::vector<double>& state, double t) const {
+  return evaluated(symbolic_->field, symbolic_->symbols, Symbolic::kTime, parameters, state, t);
 }
 
 }  // namespace cs

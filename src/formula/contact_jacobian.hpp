@@ -1,4 +1,4 @@
-// The Jacobian of K's contact vector field at a state, from GiNaC's exact partial derivatives:
+// The Jacobian of K's contact vector field at a state (and the field there), from GiNaC's exact partial derivatives:
 // q' = K_p, p' = −K_q + p K_z and, where z feeds back (KTraits::z_feeds_back), z' = K − p·K_p,
 // differentiated symbolically by q.., p.. (and z), each entry the double nearest its exact value
 // at the state (evaluated as K's constants are: k_constant.cpp). At a fixed point its largest
@@ -31,6 +31,11 @@ class ContactJacobian {
   // and t; NaN entries where one is not real or finite there (a pole).
   std::vector<double> at(const std::vector<double>& parameters, const std::vector<double>& state,
                          double t) const;
+  // The vector field itself there, (q.., p.., and z where it feeds back)', each component the
+  // double nearest its exact value, NaN where it is not real or finite: whether the state is a
+  // fixed point at all (engine/fixed_point_exponent.hpp).
+  std::vector<double> field(const std::vector<double>& parameters, const std::vector<double>& state,
+                            double t) const;
 
  private:
   struct Symbolic;

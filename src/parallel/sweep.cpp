@@ -549,7 +549,11 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     // Each attractor described (attractor_analysis.hpp), its orbit kernel built first when it
     // needs one; rank 0, which writes the file, integrates.
     OrbitFn orbit = nullptr;
-    if (needs_orbits(plan, basins->table)) orbit = orbit_kernel(plan, options, comm);
+    // A table of fixed points may need it all the same, where the Jacobian does not apply at
+    // one (fixed_point_exponent.hpp): may_need_orbits could not tell before the map, so it is
+    // built here, on every rank alike (the same table, the same exact arithmetic).
+    if (needs_orbits(plan, basins->table, &fixed_point_exponent))
+      orbit = orbit_kernel(plan, options, comm);
     const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
       // The table's fixed points get their exact λ₁ from K's formula (fixed_point_exponent.hpp).
