@@ -4,6 +4,7 @@
 // z does not feed back (z is then no part of the (q, p) flow) and K does not read t. Elsewhere
 // the attractor is described by its orbit, as any other, and the orbit's λ₁ is the value.
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,13 @@ namespace {
 // A value no Jacobian gives here: the stub orbit's, so the test sees which one was used.
 constexpr double kOrbitLyapunov = -0.123456789;
 
+// Where the stub's orbit started, and after how many steps of transient (one attractor: one call).
+std::vector<double> orbit_start;
+std::int64_t orbit_transient = -1;
+
 void stub_orbit(const OrbitRequest& request, AttractorOrbit& out) {
+  orbit_start.assign(request.state.begin(), request.state.begin() + 2);
+  orbit_transient = request.transient_steps;
   out.points.assign(static_cast<std::size_t>(request.samples) * 2, 0.0);
   out.lyapunov = kOrbitLyapunov;
   out.return_time = std::nan("");
@@ -54,6 +61,8 @@ Described describe(const std::string& scene_lines, double z0,
   a.source = 0;
   const std::vector<Attractor> table{a};
   const bool needs = needs_orbits(plan, table, &fixed_point_exponent);
+  orbit_start.clear();
+  orbit_transient = -1;
   const auto analysis =
       analyse_attractors(plan, table, needs ? &stub_orbit : nullptr, &fixed_point_exponent);
   return {needs, analysis.at(0)};
@@ -97,6 +106,12 @@ TEST(FixedPointScope, PartialsUndefinedAtThePointAreDescribedByTheOrbit) {
     EXPECT_TRUE(d.needs_orbit);
     EXPECT_EQ(d.analysis.kind, AttractorKind::fixed_point);
     EXPECT_EQ(d.analysis.lyapunov, kOrbitLyapunov);
+    // The orbit's own formulas are the same 0/0 at the point: a lane started there breaks down
+    // at its first step (NaN). It starts where the source lane did, the grid's first point
+    // (q, p) = (−1, 0), which the map integrated to the point, over the whole run as transient
+    // (t_end / h = 10⁴ steps), as an attractor found by recurrences does.
+    EXPECT_EQ(orbit_start, (std::vector<double>{-1.0, 0.0}));
+    EXPECT_EQ(orbit_transient, 10000);
   }
   // GiNaC writes abs(q)^2 as q² for a real q: a Jacobian finite at 0, which keeps its −γ/2.
   const Described d = describe("K = \"p^2/2 + abs(q)^2/2 - g*z\"\ng = 0.25", 0.0);
@@ -116,6 +131,9 @@ TEST(FixedPointScope, PointWhereTheFieldDoesNotVanishIsDescribedByTheOrbit) {
     EXPECT_TRUE(d.needs_orbit);
     EXPECT_EQ(d.analysis.kind, AttractorKind::fixed_point);
     EXPECT_EQ(d.analysis.lyapunov, kOrbitLyapunov);
+    // Its formulas are finite there: the lane starts at the point, half the run as transient.
+    EXPECT_EQ(orbit_start, (std::vector<double>{sign * 1.2e-4, -sign * 6.2e-3}));
+    EXPECT_EQ(orbit_transient, 5000);
   }
 }
 
