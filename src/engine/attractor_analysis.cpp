@@ -32,6 +32,14 @@ bool exact_at_fixed_points(const RunPlan& plan) {
   return !plan.scene.z_feeds_back && !reads_time(plan.spec, plan.scene);
 }
 
+// The state at the table's point: q and p from it, z and the rest from the request (the
+// source lane's).
+std::vector<double> at_point(const Attractor& a, const OrbitRequest& request) {
+  std::vector<double> state = request.state;
+  std::copy(a.point.begin(), a.point.end(), state.begin());
+  return state;
+}
+
 // The exact λ₁ of the table's fixed point `a` (request: its parameters and state), NaN where
 // there is none to take: not such a fixed point, no `fixed`, or `fixed` says it does not apply
 // there (its Jacobian undefined at the point, or the field not vanishing to within the table's
@@ -39,7 +47,19 @@ bool exact_at_fixed_points(const RunPlan& plan) {
 double exact_exponent(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                       FixedPointExponentFn fixed) {
   if (fixed == nullptr || !table_fixed_point(plan, a) || !exact_at_fixed_points(plan)) return kNaN;
-  return fixed(plan, request.params, request.state, plan.attractors.tolerance);
+  return fixed(plan, request.params, at_point(a, request), plan.attractors.tolerance);
+}
+
+// Would a lane started at the table's fixed point break down at once? Where the Jacobian is not
+// finite at the point, the orbit's formulas are the same expressions (0/0 in 2q³/√(q⁴) at q = 0,
+// exactly where the energy trap puts the minimum): its first step is NaN, and so would be the
+// attractor's λ₁. Such a lane starts where its source lane did instead, which the map integrated
+// to the point without breaking down.
+bool undefined_at_point(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
+                        FixedPointExponentFn fixed) {
+  return fixed != nullptr && table_fixed_point(plan, a) && a.source >= 0 &&
+         std::isnan(fixed(plan, request.params, at_point(a, request),
+                          std::numeric_limits<double>::infinity()));
 }
 
 // What the table and the orbit say (classify adds the exact λ₁ of fixed points).
@@ -62,7 +82,7 @@ bool may_need_orbits(const RunPlan& plan) {
          (stroboscopic(plan) || plan.recurrence.enabled || !exact_at_fixed_points(plan));
 }
 
-OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
+OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a, bool from_source_lane) {
   const RunSpec& spec = plan.spec;
   const int n = 2 * plan.scene.dof;
   OrbitRequest r;
@@ -75,7 +95,7 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a) {
   // lift's p = 0 is invariant, the cell's centre is off it): the lane's own start instead,
   // with the whole run as the transient, in which that lane reached it.
   plan.grid.point(a.source >= 0 ? a.source : 0, r.params.data(), r.state.data());
-  const bool from_lane = a.period == 0 && a.source >= 0;
+  const bool from_lane = (a.period == 0 || from_source_lane) && a.source >= 0;
   if (!from_lane)
     for (int k = 0; k < n; ++k)
       r.state[static_cast<std::size_t>(k)] = a.point[static_cast<std::size_t>(k)];
@@ -190,11 +210,14 @@ std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
       out[i].points.assign(static_cast<std::size_t>(kAttractorSamples * 2 * plan.scene.dof), kNaN);
       continue;
     }
-    const OrbitRequest request = orbit_request(plan, table[i]);
+    OrbitRequest request = orbit_request(plan, table[i]);
     if (orbit == nullptr) {
       out[i] = classify(plan, table[i], request, nullptr, fixed);
       continue;
     }
+    if (std::isnan(exact_exponent(plan, table[i], request, fixed)) &&
+        undefined_at_point(plan, table[i], request, fixed))
+      request = orbit_request(plan, table[i], true);
     AttractorOrbit found;
     orbit(request, found);
     out[i] = classify(plan, table[i], request, &found, fixed);

@@ -85,7 +85,10 @@ bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table,
 // falls back to its orbit all the same (needs_orbits) has its orbit kernel built after the map.
 bool may_need_orbits(const RunPlan& plan);
 
-OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a);
+// `from_source_lane`: start where the attractor's source lane started, the whole run as the
+// transient, as an attractor found by recurrences does (a fixed point whose formulas are
+// undefined at its point: analyse_attractors).
+OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a, bool from_source_lane = false);
 
 // From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
 // point of the table takes its λ₁ from `fixed` where given (exact) and where z does not feed
