@@ -25,6 +25,11 @@ attractor_kind, attractor_lyapunov, attractor_time_period, attractor_points.
   plus the tangent's alignment transient, 200 lambda / W.
 * The built-in double well's map builds no kernel: kind 0, the points its wells, lambda_1 the
   linearised flow's -gamma/2 (exact: engine/fixed_point_exponent.hpp) to rounding.
+* Fixed points where the Jacobian does not apply: K = p^2/2 + sqrt(q^4)/2 - gamma z (its
+  partials 0/0 at the trap's minimum) and the kink of V = q^2/2 + 0.1|q| (rk4 chatters; the
+  anchor test's points are no fixed points, |p'| ~ 0.1): their lanes describe them, built after
+  the map, lambda_1 = -gamma/2 within ln cond(P) / W (the eigenvectors' condition number bounds
+  the tangent's bounded factor), not the Jacobian's exact bits.
 * The orbit is a kernel of its own (kernel_build/kernel_source.hpp), built only where a map can
   find an attractor that is not a fixed point: a K run without a basin map builds its step
   kernel alone, and so does the double well's map as K (the energy trap's fixed points); the
@@ -273,6 +278,69 @@ if builtin:
         check("the double well as K describes its attractors as the built-in does, bit for bit",
               all(np.array_equal(t[n], k[n], equal_nan=True) for n in t),
               f"{t['attractor_lyapunov']!r} {k['attractor_lyapunov']!r}")
+
+# ---- fixed points where the Jacobian does not apply: their lane describes them ------------------
+# Both K are damped oscillators near the point, q'' + gamma q' + q = 0 to first order, so the
+# tangent of rk4's step is M = R(hA), A = [[0, 1], [-1, -gamma]], wherever the lane is (the kink's
+# 0.1|q| has no second derivative): with A = P diag(l, conj l) P^-1, |M^N v| / |v| lies within
+# a factor cond(P) of |R(h l)|^N, so the window's lambda_1 is -gamma/2 to within ln cond(P) / W,
+# plus rk4's |h l|^5 / (120 h) < 1e-9 per unit time. The Jacobian's value is -gamma/2 to the bit:
+# a lane's value differs from it.
+def ringing_bound(gamma, window):
+    _, P = np.linalg.eig(np.array([[0.0, 1.0], [-1.0, -gamma]]))
+    return math.log(np.linalg.cond(P)) / window + 1e-9
+
+
+def fallback_spec(k, gamma, t_end, n):
+    return f"""[scene]
+K = "{k}"
+gamma = {gamma!r}
+[integrator]
+method = "rk4"
+h = 0.01
+t_end = {t_end!r}
+[grid]
+q_0 = {{ from = -2.0, to = 2.0, n = {n} }}
+p_0 = {{ from = -2.0, to = 2.0, n = {n} }}
+[measures]
+basin = {{}}
+"""
+
+
+# sqrt(q^4) = q^2, but GiNaC's K_q is 2 q^3 / sqrt(q^4), 0/0 at the trap's minimum q = 0 (the
+# Jacobian there was NaN, and so was a lane started there): the lane starts where its source lane
+# did. Its orbit kernel is built after the map (may_need_orbits cannot know before).
+fallback_cache = tempfile.mkdtemp(prefix="orbit_fallback_cache.", dir=work)
+quartic, log = run(fallback_spec("p^2/2 + sqrt(q^4)/2 - gamma*z", 0.25, 200.0, 8), "quartic",
+                   env_extra={"CONTACTSWEEP_CACHE": fallback_cache})
+if quartic:
+    t = table(quartic)
+    bound = ringing_bound(0.25, 200.0)
+    lam = t["attractor_lyapunov"]
+    check("sqrt(q^4): one fixed point at the origin, its orbit kernel built after the map",
+          t["attractor_kind"].tolist() == [0] and "built the orbit kernel of scene.K to describe" in log
+          and "beside it" not in log, f"{t['attractor_kind']}\n{log}")
+    check("sqrt(q^4): lambda_1 = -gamma/2 within ln cond(P) / W (the lane's; the Jacobian is 0/0)",
+          np.all(np.abs(lam + 0.125) <= bound) and np.all(lam != -0.125), f"{lam!r}, bound {bound:.2e}")
+
+# V = q^2/2 + 0.1|q|: rk4's lanes chatter across the kink and the anchor test records points
+# beside it where the field is no fixed point's, |p'| = |q + 0.1 sign q + gamma p| ~ 0.1 > 2 tau
+# ||J||_inf = 2e-3 (1 + gamma). The lane describes them, not the Jacobian (-0.25 to the bit).
+kink, log = run(fallback_spec("p^2/2 + q^2/2 + 0.1*abs(q) - gamma*z", 0.5, 100.0, 16), "kink",
+                env_extra={"CONTACTSWEEP_CACHE": fallback_cache})
+if kink:
+    t = table(kink)
+    with h5py.File(kink, "r") as f:
+        q, p = f["attractor_q"][...], f["attractor_p"][...]
+    speed = np.abs(q + 0.1 * np.sign(q) + 0.5 * p)
+    check("kink: every table point has |p'| above the rule's 2 tau (1 + gamma)",
+          len(q) > 0 and np.all(speed > 2e-3 * 1.5), f"q {q}, p {p}, |p'| {speed}")
+    bound = ringing_bound(0.5, 100.0)
+    lam = t["attractor_lyapunov"]
+    check("kink: lambda_1 from the lanes, -gamma/2 within ln cond(P) / W, not the Jacobian's",
+          np.all(t["attractor_kind"] == 0) and np.all(np.abs(lam + 0.25) <= bound)
+          and np.all(lam != -0.25) and "built the orbit kernel of scene.K to describe" in log,
+          f"{lam!r}, bound {bound:.2e}")
 
 # ---- the orbit is a kernel of its own, built only for a table that needs it -----------------------
 RUN_ENTRY, ORBIT_ENTRY = "contactsweep_run_block", "contactsweep_attractor_orbit"
