@@ -1,8 +1,10 @@
 // Where a basin map's fixed point may take λ₁ from the Jacobian (engine/attractor_analysis.hpp)
 // and where it must not: the table holds q and p alone, and the Jacobian is taken at the
 // source lane's initial z and at t_start. That is the fixed point's linearisation only where
-// z does not feed back (z is then no part of the (q, p) flow) and K does not read t. Elsewhere
-// the attractor is described by its orbit, as any other, and the orbit's λ₁ is the value.
+// z does not feed back (z is then no part of the (q, p) flow) and K does not read t, and only
+// where the Jacobian applies at the table's point: its entries finite there, and the field
+// vanishing to within 2·τ·‖J‖∞ (fixed_point_exponent.cpp). Elsewhere the attractor is described
+// by its orbit, as any other, and the orbit's λ₁ is the value.
 #include <cmath>
 #include <cstdint>
 #include <string>
