@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "formula/k_formula.hpp"
 #include "model/run_spec.hpp"
 #include "parallel/journal.hpp"
 #include "parallel/journal_writer.hpp"
@@ -236,6 +237,37 @@ TEST_F(JournalTest, ChecksumRefusesAnyPayloadByteFlipped) {
   bad[good.size() - 5] = static_cast<char>(bad[good.size() - 5] ^ 0x10);
   write(bad);
   EXPECT_FALSE(loads());
+}
+
+// A block whose settlement records grew as it ran (engine/settlement_records.hpp: one record of
+// 2 dof + 1 values per distinct settled point, in a column that starts empty) comes back whole
+// into a fresh block whose column is empty, as --resume makes it: a few records, and as many as
+// the journal allows (one record of the widest system, 2 * kMaxFormulaDof + 1 values, for every
+// point). Measured from the empty column, the load refused it and --resume silently computed
+// every finished block of a basin map again.
+TEST_F(JournalTest, GrownRecordsColumnComesBackIntoAnEmptyOne) {
+  DatasetSpec basin, records;
+  basin.name = "basin";
+  basin.type = ElementType::int8;
+  records.name = "basin_records";
+  const std::vector<ColumnSpec> specs = {{basin, 1}, {records, 3, true, false, true}};
+  constexpr std::int64_t kBegin = 40, kEnd = 56, kPoints = kEnd - kBegin;
+  const std::size_t most = static_cast<std::size_t>(kPoints) * (2 * kMaxFormulaDof + 1);
+  for (const std::size_t values : {std::size_t{3 * 5}, most}) {
+    BlockResults saved({kBegin, kEnd}, specs);
+    ASSERT_TRUE(saved.columns[1].empty());  // it starts empty: the kernel appends records
+    for (std::size_t i = 0; i < saved.columns[0].size(); ++i) saved.columns[0][i] = double(i % 6);
+    for (std::size_t i = 0; i < values; ++i) saved.columns[1].push_back(0.25 * double(i) - 3.0);
+    Journal journal(output_, "00000000000000aa");
+    journal.lock();
+    journal.start(manifest("00000000000000aa"));
+    journal.save(saved);
+    BlockResults loaded({kBegin, kEnd}, specs);
+    ASSERT_TRUE(loaded.columns[1].empty());
+    ASSERT_TRUE(journal.load(loaded)) << values << " record values";
+    EXPECT_EQ(loaded.columns[1].size(), values);
+    EXPECT_EQ(loaded.columns, saved.columns);
+  }
 }
 
 TEST_F(JournalTest, ManifestRecordsTheRunExactly) {
