@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -338,6 +339,39 @@ TEST_F(JournalTest, StartDropsAnEarlierRunAndRemoveLeavesNothing) {
   journal.start(manifest("00000000000000aa"));
   EXPECT_EQ(journal.inspect().block_files, 0);
   EXPECT_TRUE(fs::exists(journal.directory() + "/lock"));  // still held
+  journal.remove();
+  EXPECT_FALSE(fs::exists(journal.directory()));
+}
+
+// A run killed while it wrote block 0 and the manifest leaves their temporaries behind (written,
+// not yet renamed). Resumed, the run computes block 0 again: its save must replace the stale
+// temporary (which it once refused: "cannot create ...tmp: File exists", a resume that could not
+// finish), and the block then loads. A fresh start clears such debris too, and removing the
+// finished journal leaves no directory behind.
+TEST_F(JournalTest, TemporariesOfAKilledWriterAreReplacedAndCleared) {
+  Journal journal(output_, "00000000000000aa");
+  journal.lock();
+  journal.start(manifest("00000000000000aa"));
+  const std::string block_tmp = journal.directory() + "/block_0.bin.tmp";
+  const std::string manifest_tmp = journal.directory() + "/manifest.tmp";
+  std::ofstream(block_tmp) << "half a block";
+  std::ofstream(manifest_tmp) << "contactsweep journal 2\nrun";
+  const BlockResults saved = block(0, 10, 2.5);
+  ASSERT_NO_THROW(journal.save(saved));
+  EXPECT_FALSE(fs::exists(block_tmp));
+  BlockResults loaded({0, 10}, columns());
+  ASSERT_TRUE(journal.load(loaded));
+  EXPECT_EQ(loaded.columns, saved.columns);
+
+  std::ofstream(block_tmp) << "half a block";
+  std::ofstream(journal.directory() + "/block_20.bin.tmp") << "half a block";
+  journal.start(manifest("00000000000000aa"));  // --force: everything of the earlier run goes
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(journal.directory()))
+    left.push_back(entry.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"lock", "manifest"}));
+  std::ofstream(journal.directory() + "/block_30.bin.tmp") << "half a block";
   journal.remove();
   EXPECT_FALSE(fs::exists(journal.directory()));
 }
