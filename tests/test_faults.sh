@@ -79,6 +79,42 @@ else
   bad "rankfile: 1 and 2 cores" "$(tail -3 rankfile.log)"
 fi
 
+# 1b. A rank far slower than rank 0: rank 1 stops itself (SIGSTOP, the test hook) after its first
+# saved block, and goes on only once rank 0 has journalled all of its own blocks and has nothing
+# left to compute. Rank 0 must wait for every block it is sent before it writes the file: had it
+# stopped listening early, rank 1's later blocks were lost (their cells left at the fill value)
+# or rank 1 hung in its sends.
+CONTACTSWEEP_TEST_KILL=block:1@1/stop timeout 120 "${mpirun[@]}" -np 2 -x CONTACTSWEEP_TEST_KILL \
+  "$bin" run spec.toml -o slow_rank.h5 --quiet >slow_rank.log 2>&1 &
+job=$!
+stopped=""
+for _ in $(seq 600); do  # rank 1 stopped (state T), up to 60 s
+  for pid in $(pgrep -P "$job" 2>/dev/null; pgrep -P "$(pgrep -P "$job" | head -1)" 2>/dev/null); do
+    [[ $(awk '{print $3}' "/proc/$pid/stat" 2>/dev/null) == T ]] && stopped=$pid
+  done
+  [[ -n $stopped ]] && break
+  sleep 0.1
+done
+if [[ -z $stopped ]]; then
+  kill "$job" 2>/dev/null; wait "$job"
+  bad "a slow rank: rank 1 never stopped" "$(tail -3 slow_rank.log)"
+else
+  # Rank 0 is done with its own blocks once the journal stops growing while rank 1 is stopped.
+  last=-1
+  for _ in $(seq 600); do
+    now=$(blocks_in slow_rank.h5)
+    ((now == last)) && break
+    last=$now
+    sleep 1
+  done
+  kill -CONT "$stopped"
+  wait "$job"
+  rc=$?
+  if ((rc != 0)); then bad "a slow rank" "exit $rc: $(tail -3 slow_rank.log)"
+  elif same "a slow rank" slow_rank.h5 reference.h5; then
+    ok "a rank stopped until rank 0 had finished ($last blocks journalled by then): rank 0 waited for its blocks, the 1-process bits"
+  fi
+fi
 # 2a. A journal from another build is never mixed in: refused, with the build named.
 CONTACTSWEEP_TEST_KILL=block:3 "$bin" run spec.toml -o build.h5 --quiet 2>/dev/null
 sed -i 's/^run .*/run 0123456789abcdef/; s/^build .*/build 0.1.0 build-id 00ff/' build.h5.journal/manifest

@@ -255,14 +255,16 @@ void remove_finished_journal(Journal& journal) {
 // `block` (after the N-th saved block of this rank), `write` (HDF5 file open, nothing
 // committed), `commit` (output in place, journal not yet removed). @RANK limits it to one rank
 // (a rank that dies while the others go on). /term or /int sends the process SIGTERM or SIGINT
-// instead, which it handles (stop_signal.hpp) and goes on.
+// instead, which it handles (stop_signal.hpp) and goes on; /stop sends SIGSTOP, and the process
+// waits for the test's SIGCONT: a rank far slower than the others.
 void test_kill_point(const char* stage, int rank, std::int64_t count = 0) {
   static const char* spec = std::getenv("CONTACTSWEEP_TEST_KILL");
   if (spec == nullptr) return;
   std::string s(spec);
   int signal = SIGKILL;
   if (auto slash = s.find('/'); slash != std::string::npos) {
-    signal = s.substr(slash + 1) == "int" ? SIGINT : SIGTERM;
+    const std::string name = s.substr(slash + 1);
+    signal = name == "int" ? SIGINT : name == "stop" ? SIGSTOP : SIGTERM;
     s = s.substr(0, slash);
   }
   auto at_rank = s.find('@');
