@@ -261,6 +261,20 @@ else
   umount small
 fi
 
+# A quota the free-space figures do not show (the shim refuses the file's reservation with
+# EDQUOT; its writes pass): refused before any block is computed, exit 1 naming the quota, no
+# output or temporary; once there is room, --resume writes the uninterrupted run's bits.
+env LD_PRELOAD="$shim" CONTACTSWEEP_FAULT_PATH=.h5.partial CONTACTSWEEP_FAULT_RESERVE=0 \
+  CONTACTSWEEP_FAULT_AFTER=1000000000000 CONTACTSWEEP_FAULT_ERRNO=122 timeout 120 "$bin" run spec.toml -o quota.h5 --quiet >quota.log 2>&1
+rc=$?
+if status_and_message "a quota too small for the output" 1 $rc quota.log "do not fit on its disk: Disk quota exceeded" &&
+   [[ ! -e quota.h5 && ! -e quota.h5.partial ]] && (($(blocks_in quota.h5) == 0)) &&
+   "$bin" run spec.toml -o quota.h5 --resume --quiet && same "resume after the quota" quota.h5 reference.h5; then
+  ok "a quota too small for the output: refused before computing (exit 1), resumed to the right bits"
+elif ((rc == 1)); then
+  bad "a quota too small for the output" "left: $(ls -d quota.h5* | tr '\n' ' '), $(blocks_in quota.h5) blocks journalled"
+fi
+
 # 4. Bad input seen by only some ranks: every rank exits 2, rank 0 says why, no hang.
 timeout 120 "${mpirun[@]}" -np 1 "$bin" run spec.toml -o budget.h5 : \
   -np 1 -x CONTACTSWEEP_MEMORY_LIMIT=64K "$bin" run spec.toml -o budget.h5 >budget.log 2>&1

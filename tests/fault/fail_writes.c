@@ -6,6 +6,8 @@
  *   CONTACTSWEEP_FAULT_AFTER  bytes that may still be written to those files, summed over this
  *                             process (default 0); every write after that fails
  *   CONTACTSWEEP_FAULT_ERRNO  the error (default ENOSPC = 28)
+ *   CONTACTSWEEP_FAULT_RESERVE  if set, the most bytes posix_fallocate may reserve for those
+ *                             files (a quota); unset, reservations are never refused
  *
  * It wraps write, pwrite, pwrite64, writev, pwritev and pwritev64: what HDF5's MPI-IO driver
  * (Open MPI's fbtl) and our journal call. Writes to other files pass through untouched. */
@@ -118,4 +120,26 @@ ssize_t pwritev(int fd, const struct iovec* iov, int iovcnt, off_t offset) {
 ssize_t pwritev64(int fd, const struct iovec* iov, int iovcnt, off64_t offset) {
   REAL(pwritev64);
   return vector_refused(fd, iov, iovcnt) ? -1 : real_pwritev64(fd, iov, iovcnt, offset);
+}
+
+/* A quota the free-space figures do not show (durable_file.cpp, check_room_for): with
+ * CONTACTSWEEP_FAULT_RESERVE set, reserving more than that many bytes of a chosen file fails
+ * with CONTACTSWEEP_FAULT_ERRNO. Unset, reservations pass through, so that the cases above fail
+ * in the writes they name. posix_fallocate returns the error; it does not set errno. */
+typedef int (*posix_fallocate_fn)(int, off_t, off_t);
+typedef int (*posix_fallocate64_fn)(int, off64_t, off64_t);
+
+static int reserve_refused(int fd, long long length) {
+  const char* most = getenv("CONTACTSWEEP_FAULT_RESERVE");
+  return most != NULL && selected(fd) && length > atoll(most);
+}
+
+int posix_fallocate(int fd, off_t offset, off_t length) {
+  REAL(posix_fallocate);
+  return reserve_refused(fd, (long long)length) ? fault_errno() : real_posix_fallocate(fd, offset, length);
+}
+
+int posix_fallocate64(int fd, off64_t offset, off64_t length) {
+  REAL(posix_fallocate64);
+  return reserve_refused(fd, (long long)length) ? fault_errno() : real_posix_fallocate64(fd, offset, length);
 }
