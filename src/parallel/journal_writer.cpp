@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "parallel/team_cpus.hpp"
+
 namespace cs {
 
 JournalWriter::JournalWriter(const Journal& journal, std::function<void(std::int64_t)> on_saved,
@@ -38,6 +40,7 @@ void JournalWriter::close() {
 }
 
 void JournalWriter::work() {
+  run_on_team_cpus();  // not on OpenMP thread 0's core alone (team_cpus.hpp)
   std::unique_lock lock(mutex_);
   for (;;) {
     changed_.wait(lock, [&] { return !queue_.empty() || closing_; });
