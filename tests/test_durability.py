@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """A finished block, the journal's manifest and the output survive a power cut once they carry
-their final names: each is synced before the rename (or link) that names it, and the output's
-directory is synced after its rename. A kill -9 cannot show a missing fsync (the page cache
+their final names: each is synced before the rename (or link) that names it, and the directory
+that holds it after: the journal's after its manifest (with the output's directory, where the
+journal was made) and before any block is named, again after every block before the output is
+put in place, and the output's directory after the output's rename. A kill -9 cannot show a missing fsync (the page cache
 keeps the data), so the real binary runs under strace and the order of its calls is checked.
 
   test_durability.py CONTACTSWEEP SPEC WORKDIR
@@ -78,9 +80,13 @@ def check(run, extra):
     synced = set()
     blocks = manifests = 0
     placed = None
+    unsynced_names = []  # journal entries named since the journal directory's last sync
+    manifest_named_at = None
     for i, call in enumerate(calls(trace)):
         if call[0] == "sync":
             synced.add(call[1])
+            if call[1] == journal:
+                unsynced_names = []
             continue
         if call[0] == "write":  # written after its sync: the sync no longer covers it
             synced.discard(call[1])
@@ -90,11 +96,24 @@ def check(run, extra):
             if source not in synced:
                 fail(f"{run}: {os.path.basename(target)} named before {source} was synced")
             synced.discard(source)  # the next write of this name must be synced again
-            blocks += os.path.basename(target).startswith("block_")
-            manifests += os.path.basename(target) == "manifest"
+            if os.path.basename(target).startswith("block_"):
+                if blocks == 0 and manifest_named_at is not None:
+                    between = [c[1] for c in calls(trace)[manifest_named_at:i] if c[0] == "sync"]
+                    for directory in (journal, work) if extra == [] else (journal,):
+                        if directory not in between:
+                            fail(f"{run}: a block named before {directory} was synced after "
+                                 f"the manifest's name")
+                blocks += 1
+            if os.path.basename(target) == "manifest":
+                manifests += 1
+                manifest_named_at = i
+            unsynced_names.append(os.path.basename(target))
         elif target == output:
             if source != partial or partial not in synced:
                 fail(f"{run}: the output named from {source} before it was synced")
+            if unsynced_names:
+                fail(f"{run}: the output put in place while the journal's directory was not "
+                     f"synced after naming {unsynced_names[:3]}")
             placed = i
     if blocks == 0 or manifests != 1:
         fail(f"{run}: {blocks} blocks and {manifests} manifests journalled, expected some and 1")
@@ -105,7 +124,8 @@ def check(run, extra):
         if work not in [c[1] for c in after]:
             fail(f"{run}: the output's directory {work} was not synced after its rename")
     print(f"{run}: {blocks} blocks and the manifest synced after their last write and before "
-          f"their rename, the output likewise, its directory after")
+          f"their rename, the journal's directory after them, the output likewise, its "
+          f"directory after")
 
 
 check("fresh", [])

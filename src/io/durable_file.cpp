@@ -50,9 +50,10 @@ void place_durably(const std::string& partial_path, const std::string& final_pat
     throw std::runtime_error("cannot link " + partial_path + " to " + final_path + ": " +
                              std::strerror(errno));
   }
-  const auto directory = std::filesystem::absolute(final_path).parent_path();
-  sync_path(directory.string(), O_RDONLY | O_DIRECTORY);
+  sync_directory(std::filesystem::absolute(final_path).parent_path().string());
 }
+
+void sync_directory(const std::string& path) { sync_path(path, O_RDONLY | O_DIRECTORY); }
 
 void check_room_for(const std::string& path, double bytes) {
   // O_EXCL: never through a link someone planted under the temporary's name (a shared

@@ -16,6 +16,10 @@ void place_durably(const std::string& partial_path, const std::string& final_pat
 // the middle of a file, so the space is claimed with fallocate and released right before HDF5
 // creates the file. Another program may take it in between: that rare case still fails cleanly
 // (see hdf5_files_left_open).
+// Makes the entries of the directory `path` (a file just named in it, a directory just made in
+// it) survive a power cut.
+void sync_directory(const std::string& path);
+
 void check_room_for(const std::string& path, double bytes);
 
 }  // namespace cs

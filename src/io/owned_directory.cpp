@@ -168,6 +168,11 @@ void OwnedDirectory::write_atomically(const std::string& name, const std::string
   }
 }
 
+void OwnedDirectory::sync_names() const {
+  if (::fsync(fd_) != 0 && errno != EINVAL)
+    throw std::runtime_error("cannot sync the directory " + path_ + ": " + errno_text(errno));
+}
+
 bool OwnedDirectory::read_file(const std::string& name, std::string& bytes, std::size_t most) const {
   // O_NONBLOCK: a FIFO under the name would block the open forever; S_ISREG then refuses it.
   const int fd = ::openat(fd_, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);

@@ -62,6 +62,11 @@ class OwnedDirectory {
   bool read_file(const std::string& name, std::string& bytes,
                  std::size_t most = std::numeric_limits<std::size_t>::max()) const;
 
+  // Makes the names written, renamed or removed in it so far survive a power cut (fsync of the
+  // directory: a file's own fsync covers its data, not the entry that names it). Throws
+  // std::runtime_error; a file system that cannot sync a directory (EINVAL) passes.
+  void sync_names() const;
+
  private:
   std::string path_;
   int fd_ = -1;

@@ -9,10 +9,12 @@
 #include <climits>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
 #include "formula/k_formula.hpp"
+#include "io/durable_file.hpp"
 #include "io/log.hpp"
 #include "io/owned_directory.hpp"
 #include "model/run_spec.hpp"
@@ -260,8 +262,14 @@ void Journal::remove_blocks_then_manifest() const {
 void Journal::start(const JournalManifest& manifest) {
   remove_blocks_then_manifest();
   dir_.write_atomically("manifest", manifest_text(manifest));
+  // The manifest's name on disk before any block's: after a power cut, a journal holding blocks
+  // must still name its run. A directory this run made needs its own name made durable too.
+  dir_.sync_names();
+  if (dir_.created()) sync_directory(std::filesystem::absolute(directory_).parent_path().string());
   started_ = true;
 }
+
+void Journal::sync_saved() const { dir().sync_names(); }
 
 std::string Journal::block_name(std::int64_t begin) {
   return "block_" + std::to_string(begin) + ".bin";

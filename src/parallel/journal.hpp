@@ -72,6 +72,10 @@ class Journal {
   // Throws std::runtime_error on I/O failure and leaves no temporary file behind.
   void save(const BlockResults& block) const;
 
+  // Any rank, after save: makes the names of the blocks saved so far survive a power cut (a
+  // block's own fsync covers its bytes, not its name). Throws std::runtime_error.
+  void sync_saved() const;
+
   // Loads this run's saved block into `block` (range and column widths must match); false when
   // the block is missing, damaged or stamped by another run (then it is computed again).
   bool load(BlockResults& block) const;

@@ -50,6 +50,13 @@ void JournalWriter::work() {
     std::exception_ptr failed;
     try {
       journal_.save(*block);
+      // One sync of the journal's names per drain of the queue, not per block: a writer that
+      // falls behind catches up with fewer; one that keeps up syncs each, off the compute
+      // threads. The last block of a run (or of a stop) always drains the queue.
+      lock.lock();
+      const bool drained = queue_.size() == 1;
+      lock.unlock();
+      if (drained) journal_.sync_saved();
     } catch (...) {
       failed = std::current_exception();
     }
