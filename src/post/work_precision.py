@@ -6,7 +6,7 @@
 1. Trajectories. Runs sweeps/workprecision_damped_oscillator.toml and
    sweeps/workprecision_double_well.toml once per method (--set integrator.method=NAME; the grid's
    h axis gives every step size in one run) and measures the error of the final state at t_end:
-   - damped oscillator: against the exact solution (shared/PHYSICS.md): max of |dq|, |dp| over the
+   - damped oscillator: against the exact solution (exact_oscillator below): max of |dq|, |dp| over the
      exact amplitude sqrt(q^2 + p^2), |dz| / |z| and |d ln lambda|;
    - double well: against contact_splitting6 at h = 2.5e-4, max over the initial states of |dq|,
      |dp|, |dz| / max(1, |z|) and |d ln lambda|. The reference's own error is estimated by the same
@@ -101,7 +101,8 @@ def median_times(binary, spec, out, sets, repeats):
 # --- errors ---------------------------------------------------------------------------------------
 
 def exact_oscillator(spec, t):
-    """Exact (q, p, z, ln lambda, H) of scene A at time t (shared/PHYSICS.md)."""
+    """Exact (q, p, z, ln lambda, H) of scene A at time t: q'' + gamma q' + omega^2 q = 0,
+    ln lambda = ln lambda0 + gamma t, and H = lambda K conserved gives K, hence z."""
     sc, ini = spec["scene"], spec["initial"]
     w, g = sc["omega"], sc["gamma"]
     q0, p0, z0, l0 = ini["q"], ini["p"], ini["z"], ini["lambda"]
