@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What measures as formulas cost (docs/observables.md, issue 24): user CPU of a double-well map
+# What measures as formulas cost (docs/observables.md): user CPU of a double-well map
 # in variants run interleaved, REPEATS rounds, medians printed. One process, OMP threads as given.
 #   bash jobs/bench_observables.sh [REPEATS=5] [N=256] [THREADS=1]
 # Variants (each a 256 x 256 map over (q_0, p_0) to t = 100, h = 0.01, final_state q unless said):

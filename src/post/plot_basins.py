@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Basin maps of any system (measures.basin on any scene; issue 11).
+"""Basin maps of any system (measures.basin on any scene; docs/basins.md).
 
   plot_basins.py OUT_DIR FILE.h5 [FILE.h5 ...]
 

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Exit basins and escape times of an open system (measures.stop with exits and basin; issue 24).
+"""Exit basins and escape times of an open system (measures.stop with exits and basin;
+docs/observables.md).
 
   plot_escape.py OUT_DIR FILE.h5 [FILE.h5 ...]
 

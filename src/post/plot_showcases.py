@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Showcases of attractors of every kind (issue 23 item 6; docs/basins.md, "Showcases").
+"""Showcases of attractors of every kind (docs/showcases.md).
 
   plot_showcases.py --in OUT_DIR --out FIG_DIR
 
