@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """The docs test (CTest label `docs`): README.md and docs/ name nothing outside the repository,
-the README's relative links resolve, docs/spec.md documents every key the spec parser accepts,
+nor do the files the pages send users to run or read (sweeps/, examples/, jobs/, src/post/),
+whose scripts with a #! line are executable as the pages invoke them; the README's relative
+links resolve, docs/spec.md documents every key the spec parser accepts,
 and `mkdocs build --strict` passes (a broken link between
 pages, or a page missing from the nav that is linked, fails it).
 
@@ -26,6 +28,28 @@ LINK = re.compile(r"\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 def pages(root):
     yield root / "README.md"
     yield from sorted((root / "docs").glob("*.md"))
+
+
+def user_files(root):
+    """What the pages tell users to run or read beside them: the specs, the example, the batch
+    jobs and the post-processing scripts. Their comments are read as documentation too."""
+    for folder, pattern in (("sweeps", "*.toml"), ("examples", "*"), ("jobs", "*"),
+                            ("src/post", "*.py")):
+        yield from sorted(p for p in (root / folder).glob(pattern) if p.is_file())
+
+
+# Scripts with a #! line that are not run but sourced or imported by the others.
+NOT_RUN = {"jobs/machine_facts.sh",    # sourced by jobs/bench_*.sh
+           "src/post/safe_output.py"}  # imported by the plot scripts
+
+
+def not_executable(root, path):
+    """A script with a #! line that cannot be run as `path ARGS` (the pages invoke them so)."""
+    if path.relative_to(root).as_posix() in NOT_RUN:
+        return False
+    with open(path, "rb") as f:
+        shebang = f.read(2) == b"#!"
+    return shebang and not path.stat().st_mode & 0o111
 
 
 def broken_anchors(docs, site):
@@ -83,6 +107,13 @@ def main():
             for pattern, what in FORBIDDEN:
                 if pattern.search(line):
                     errors.append(f"{page.relative_to(root)}:{number}: names {what}: {line.strip()}")
+    for path in user_files(root):
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            for pattern, what in FORBIDDEN:
+                if pattern.search(line):
+                    errors.append(f"{path.relative_to(root)}:{number}: names {what}: {line.strip()}")
+        if not_executable(root, path):
+            errors.append(f"{path.relative_to(root)}: has a #! line but is not executable")
     errors += undocumented_keys(root)
     readme = root / "README.md"
     for target in LINK.findall(readme.read_text(encoding="utf-8")):
