@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # What measures as formulas cost (docs/observables.md): user CPU of a double-well map
 # in variants run interleaved, REPEATS rounds, medians printed. One process, OMP threads as given.
-#   bash jobs/bench_observables.sh [REPEATS=5] [N=256] [THREADS=1]
-# Variants (each a 256 x 256 map over (q_0, p_0) to t = 100, h = 0.01, final_state q unless said):
+#   bash jobs/bench_observables.sh [REPEATS=7] [N=256] [THREADS=1]
+# Variants (each an N x N map over (q_0, p_0) to t = 100, h = 0.01, final_state q unless said):
 #   builtin        the built-in scene (ahead-of-time kernel)
 #   k              the same K written in the spec (run-time kernel): the baseline of the rest
 #   k_observe      + observe E = p^2/2 + V (final_E only: once per lane)
