@@ -309,6 +309,10 @@ expect "K: --resume with another h, before any kernel is built" 2 "not made by t
   env CONTACTSWEEP_CACHE="$d/k_cache" "$bin" run "$k_done" -o k_done.h5 --resume --set integrator.h=0.005
 expect "K: --resume with a changed formula, before any kernel is built" 2 "not made by this spec" "$d" -- \
   env CONTACTSWEEP_CACHE="$d/k_cache" "$bin" run "$k_done" -o k_done.h5 --resume --set 'measures.observe.E="p^2/2"'
+# The memory and disk checks refuse a run before any kernel is built too (it used to compile
+# the kernel first, 3 s, and leave it in the cache).
+expect "K: results larger than the memory budget, before any kernel is built" 2 "of memory" "$d" -- \
+  env CONTACTSWEEP_CACHE="$d/k_cache" CONTACTSWEEP_MEMORY_LIMIT=1 "$bin" run "$k_done" -o k_memory.h5
 if [[ -z $(ls "$CONTACTSWEEP_CACHE" 2>/dev/null) ]]; then
   echo "ok    K: no refused spec built a kernel"
   passed=$((passed + 1))

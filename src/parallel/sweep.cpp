@@ -450,6 +450,12 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     summary.already_complete = true;
     return summary;
   }
+  // The memory and disk checks too: a run they refuse compiles nothing (and caches nothing).
+  auto blocks = my_blocks(slices, block_size, c);
+  std::int64_t local_points = 0;
+  for (const auto& b : blocks) local_points += b.range.end - b.range.begin;
+  check_resources(plan, local_points, static_cast<std::int64_t>(blocks.size()), block_size,
+                  static_cast<std::int64_t>(blocks.size()) * c.size, decision, options, c);
   if (runs_on_step_kernel(slice_plans)) {
     const StepKernel* kernel = step_kernel(plan, options, comm);
     for (auto& slice : slices) slice->step_kernel = kernel;
@@ -458,12 +464,6 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     for (auto& slice : slices) slice->custom_kernel = kernel;
   }
   auto start_time = std::chrono::steady_clock::now();
-
-  auto blocks = my_blocks(slices, block_size, c);
-  std::int64_t local_points = 0;
-  for (const auto& b : blocks) local_points += b.range.end - b.range.begin;
-  check_resources(plan, local_points, static_cast<std::int64_t>(blocks.size()), block_size,
-                  static_cast<std::int64_t>(blocks.size()) * c.size, decision, options, c);
   if (decision.start == Start::fresh)
     agreed(comm, [&] {
       if (c.rank == 0)
