@@ -77,5 +77,21 @@ TEST(TeamCpus, JournalWriterRunsOnEveryCpuOfTheTeam) {
                                << " of the team's " << team.size() << " CPUs";
 }
 
+// A machine with more than 1024 CPUs (CPU_SETSIZE, cpu_set_t's fixed size): a team there on
+// CPUs 1024 and above lost them from the writer's mask, all of them where the team had no lower
+// one (the writer then kept thread 0's core). Not seen on this machine's CPUs: the mask alone.
+TEST(TeamCpus, MaskHoldsCpusAboveCpuSetSize) {
+  const int high = CPU_SETSIZE + 476;
+  const CpuMask mask({3, high});
+  EXPECT_TRUE(mask.has(3));
+  EXPECT_TRUE(mask.has(high));
+  EXPECT_FALSE(mask.has(4));
+  EXPECT_FALSE(mask.has(high - 1));
+  EXPECT_EQ(mask.count(), 2);
+  EXPECT_GE(mask.bytes() * 8, static_cast<std::size_t>(high) + 1);
+  const CpuMask only_high({CPU_SETSIZE, CPU_SETSIZE + 1});
+  EXPECT_EQ(only_high.count(), 2);
+}
+
 }  // namespace
 }  // namespace cs

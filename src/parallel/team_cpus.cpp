@@ -20,14 +20,35 @@ std::vector<int> team_cpus() {
   return cpus;
 }
 
+CpuMask::CpuMask(const std::vector<int>& cpus) {
+  int most = 0;
+  for (const int cpu : cpus) most = std::max(most, cpu);
+  // Sized for the highest CPU, as libgomp sizes its own: a fixed cpu_set_t holds CPU_SETSIZE
+  // (1024) CPUs, and a team on a larger machine lost those above it (all of them: its own core).
+  set_ = CPU_ALLOC(most + 1);
+  if (set_ == nullptr) return;
+  bytes_ = CPU_ALLOC_SIZE(most + 1);
+  CPU_ZERO_S(bytes_, set_);
+  for (const int cpu : cpus)
+    if (cpu >= 0) CPU_SET_S(static_cast<std::size_t>(cpu), bytes_, set_);
+}
+
+CpuMask::~CpuMask() {
+  if (set_ != nullptr) CPU_FREE(set_);
+}
+
+bool CpuMask::has(int cpu) const {
+  return set_ != nullptr && cpu >= 0 && CPU_ISSET_S(static_cast<std::size_t>(cpu), bytes_, set_);
+}
+
+int CpuMask::count() const { return set_ == nullptr ? 0 : CPU_COUNT_S(bytes_, set_); }
+
 void run_on_team_cpus() {
   const std::vector<int> cpus = team_cpus();
   if (cpus.empty()) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  for (const int cpu : cpus)
-    if (cpu >= 0 && cpu < CPU_SETSIZE) CPU_SET(cpu, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  const CpuMask mask(cpus);
+  if (mask.count() == 0) return;
+  pthread_setaffinity_np(pthread_self(), mask.bytes(), mask.set());
 }
 
 }  // namespace cs
