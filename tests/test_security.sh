@@ -501,6 +501,14 @@ rc=$?
 ((rc == 2)) && ! grep -q $'\033' stderr && grep -qF 'gone\x1b]0;planted title\x07' stderr &&
   ok "a planted link's target reaches the terminal with its control characters written out (exit 2)" ||
   bad "a planted link's target with escape sequences" "exit $rc$(grep -q $'\033' stderr && echo ', raw escapes printed')"
+# The same with the C1 control CSI (U+009B, which a UTF-8 terminal takes for ESC [) encoded in
+# UTF-8, and as the raw byte an 8-bit terminal takes for it; a name's own UTF-8 (ü) stays.
+as cs-sec-attacker ln -s "$(printf 'gone\xc2\x9b2J \x9b2J \xc3\xbc')" "$shared/escape_c1.h5"
+(cd "$shared" && as cs-sec-victim env CONTACTSWEEP_CACHE="$vcache" "$bin" run k.toml -o escape_c1.h5 --quiet) 2>stderr
+rc=$?
+((rc == 2)) && ! LC_ALL=C grep -q $'\x9b' stderr && grep -qF "gone\\xc2\\x9b2J \\x9b2J $(printf '\xc3\xbc')" stderr &&
+  ok "a planted link's target reaches the terminal with its C1 controls written out, its UTF-8 kept (exit 2)" ||
+  bad "a planted link's target with C1 controls" "exit $rc$(LC_ALL=C grep -q $'\x9b' stderr && echo ', raw CSI printed')"
 
 # Without /proc (a container or chroot that does not mount it) the descriptor a kernel was
 # checked on has no name to load it by, and its path is not loaded instead: whoever can rename a

@@ -17,12 +17,37 @@ namespace {
 
 // `text` with its control characters written as \xNN: a link's target is anyone's text (another
 // user's link at the output's name in a shared directory), and raw it reached the terminal,
-// escape sequences included (a window title set, the screen cleared).
+// escape sequences included (a window title set, the screen cleared). Control characters are
+// C0 and DEL, and the C1 controls U+0080-U+009F as UTF-8 (a UTF-8 terminal takes U+009B for
+// ESC [); a byte that is no part of valid UTF-8 is written out too (a raw 0x9B is ESC [ to an
+// 8-bit terminal). Other UTF-8, a name in another script, stays as it is.
 std::string printable(const std::string& text) {
   std::string out;
-  for (const unsigned char c : text) {
-    if (c < 0x20 || c == 0x7f) out += fmt::format("\\x{:02x}", c);
-    else out += static_cast<char>(c);
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto lead = static_cast<unsigned char>(text[i]);
+    const std::size_t n = lead < 0x80 ? 1 : (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3
+                        : (lead >> 3) == 0x1e ? 4 : 0;
+    bool valid = n > 0 && i + n <= text.size();
+    char32_t code = n == 1 ? lead : n == 2 ? lead & 0x1f : n == 3 ? lead & 0x0f : lead & 0x07;
+    for (std::size_t k = 1; valid && k < n; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      valid = (next & 0xc0) == 0x80;
+      code = (code << 6) | (next & 0x3f);
+    }
+    // Overlong forms (C0 9B is ESC) and surrogates are no valid UTF-8.
+    constexpr char32_t kLeast[5] = {0, 0, 0x80, 0x800, 0x10000};
+    if (valid && n > 1)
+      valid = code >= kLeast[n] && code <= 0x10ffff && (code < 0xd800 || code > 0xdfff);
+    const bool control = code < 0x20 || code == 0x7f || (code >= 0x80 && code <= 0x9f);
+    const std::size_t bytes = valid ? n : 1;
+    if (!valid || control) {
+      for (std::size_t k = 0; k < bytes; ++k)
+        out += fmt::format("\\x{:02x}", static_cast<unsigned char>(text[i + k]));
+    } else {
+      out.append(text, i, bytes);
+    }
+    i += bytes;
   }
   return out;
 }
