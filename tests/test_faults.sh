@@ -275,6 +275,23 @@ elif ((rc == 1)); then
   bad "a quota too small for the output" "left: $(ls -d quota.h5* | tr '\n' ' '), $(blocks_in quota.h5) blocks journalled"
 fi
 
+# A file system without locks (an NFS mount without lockd; the shim fails the journal's lock
+# with ENOLCK): the run goes on with a warning, and a start refused there (an output that
+# exists, no --force) leaves no journal either; it used to leave the directory it made, with
+# its lock file.
+env LD_PRELOAD="$shim" CONTACTSWEEP_FAULT_LOCK=.journal/lock "$bin" run spec.toml -o nolock.h5 --quiet >nolock.log 2>&1
+status_and_message "a run on a file system without locks" 0 $? nolock.log "cannot lock files" &&
+  same "a run on a file system without locks" nolock.h5 reference.h5 &&
+  ok "a run on a file system without locks: a warning, the right bits, no journal left"
+env LD_PRELOAD="$shim" CONTACTSWEEP_FAULT_LOCK=.journal/lock "$bin" run spec.toml -o nolock.h5 --quiet >nolock_refused.log 2>&1
+rc=$?
+if status_and_message "a refused start without locks" 2 $rc nolock_refused.log "pass --force" &&
+   [[ ! -e nolock.h5.journal ]]; then
+  ok "a start refused on a file system without locks leaves no journal"
+elif ((rc == 2)); then
+  bad "a start refused on a file system without locks" "left: $(ls -A nolock.h5.journal 2>&1 | tr '\n' ' ')"
+fi
+
 # 4. Bad input seen by only some ranks: every rank exits 2, rank 0 says why, no hang.
 timeout 120 "${mpirun[@]}" -np 1 "$bin" run spec.toml -o budget.h5 : \
   -np 1 -x CONTACTSWEEP_MEMORY_LIMIT=64K "$bin" run spec.toml -o budget.h5 >budget.log 2>&1

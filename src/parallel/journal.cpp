@@ -198,6 +198,14 @@ void Journal::lock() {
     if (fd < 0 && errno == ENOENT) refuse("it was removed while this run started");
     if (fd < 0) refuse(path + ": " + errno_text(errno));
     if (int failure = try_lock(fd); failure != 0) {
+      if (failure == ENOLCK) {  // a file system without locks (an NFS mount without lockd)
+        log("contactsweep: warning: the file system of '{}' cannot lock files; nothing stops a "
+            "second run on this output while this one lives", directory_);
+        // Kept, unlocked, as a held lock is: a start refused now still removes the directory
+        // it made (~Journal), which was left behind with its lock file.
+        lock_fd_ = fd;
+        return;
+      }
       std::string holder(256, '\0');
       const ssize_t n = ::pread(fd, holder.data(), holder.size(), 0);
       holder.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
@@ -206,11 +214,6 @@ void Journal::lock() {
         throw InputError("another run is writing this output (" +
                          (holder.empty() ? std::string("its lock: ") + path : holder) +
                          "); wait for it to end, or choose another output");
-      if (failure == ENOLCK) {  // a file system without locks (an NFS mount without lockd)
-        log("contactsweep: warning: the file system of '{}' cannot lock files; nothing stops a "
-            "second run on this output while this one lives", directory_);
-        return;
-      }
       refuse(path + ": " + errno_text(failure));
     }
     struct stat held {}, named {};

@@ -9,12 +9,17 @@
  *   CONTACTSWEEP_FAULT_RESERVE  if set, the most bytes posix_fallocate may reserve for those
  *                             files (a quota); unset, reservations are never refused
  *
+ *   CONTACTSWEEP_FAULT_LOCK   the end of the paths of files whose lock requests fail with ENOLCK
+ *                             (a file system without locks: an NFS mount without lockd)
+ *
  * It wraps write, pwrite, pwrite64, writev, pwritev and pwritev64: what HDF5's MPI-IO driver
  * (Open MPI's fbtl) and our journal call. Writes to other files pass through untouched. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
+#include <stdarg.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,8 +38,7 @@ static long long remaining_budget(void) {
   return atomic_load(&budget);
 }
 
-static int selected(int fd) {
-  const char* pattern = getenv("CONTACTSWEEP_FAULT_PATH");
+static int path_ends_with(int fd, const char* pattern) {
   if (pattern == NULL || *pattern == '\0') return 0;
   char link[64], path[PATH_MAX];
   snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
@@ -44,6 +48,8 @@ static int selected(int fd) {
   size_t length = strlen(pattern);
   return (size_t)n >= length && strcmp(path + n - length, pattern) == 0;
 }
+
+static int selected(int fd) { return path_ends_with(fd, getenv("CONTACTSWEEP_FAULT_PATH")); }
 
 static int fault_errno(void) {
   const char* e = getenv("CONTACTSWEEP_FAULT_ERRNO");
@@ -142,4 +148,22 @@ int posix_fallocate(int fd, off_t offset, off_t length) {
 int posix_fallocate64(int fd, off64_t offset, off64_t length) {
   REAL(posix_fallocate64);
   return reserve_refused(fd, (long long)length) ? fault_errno() : real_posix_fallocate64(fd, offset, length);
+}
+
+/* A file system without locks: with CONTACTSWEEP_FAULT_LOCK set, a lock request (F_OFD_SETLK,
+ * F_SETLK) on a file whose path ends with it fails with ENOLCK; every other call passes. */
+typedef int (*fcntl_fn)(int, int, ...);
+
+int fcntl(int fd, int cmd, ...) {
+  REAL(fcntl);
+  va_list ap;
+  va_start(ap, cmd);
+  void* arg = va_arg(ap, void*);  /* an int or a pointer: passed on as glibc's own fcntl does */
+  va_end(ap);
+  if ((cmd == F_OFD_SETLK || cmd == F_SETLK) &&
+      path_ends_with(fd, getenv("CONTACTSWEEP_FAULT_LOCK"))) {
+    errno = ENOLCK;
+    return -1;
+  }
+  return real_fcntl(fd, cmd, arg);
 }
