@@ -158,20 +158,28 @@ rc=$?
 # once) is refused and leaves the live run's lock alone: it once removed it on its way out, so a
 # third run locked a fresh file beside the live one, and a live run then put the third's
 # half-written file in place with exit 0. strace holds the first run for 1.5 s between its
-# mkdir of the journal and its lock, so that the second takes the lock first.
+# mkdir of the journal and its lock, so that the second takes the lock first. The second stops
+# itself (SIGSTOP, the test hook) after its first saved block, so that it is alive, whatever the
+# machine's load, when the third starts; it goes on once the third has been refused.
 if command -v strace >/dev/null && strace -f -qq -o /dev/null true 2>/dev/null; then
   rm -rf steal.h5*
   strace -f -qq -o /dev/null -P steal.h5.journal -e trace=mkdir -e inject=mkdir:delay_exit=1500000 \
     "$bin" run spec.toml -o steal.h5 --quiet "${long[@]}" >steal_x.log 2>&1 &
   run_x=$!
   sleep 0.5
-  "$bin" run spec.toml -o steal.h5 --quiet "${long[@]}" >steal_y.log 2>&1 &
+  CONTACTSWEEP_TEST_KILL=block:1/stop "$bin" run spec.toml -o steal.h5 --quiet "${long[@]}" \
+    >steal_y.log 2>&1 &
   run_y=$!
   wait "$run_x"
   rc_x=$?
   lock_left=$([[ -f steal.h5.journal/lock ]] && echo yes || echo no)
+  for _ in $(seq 600); do  # the live run stopped (state T), up to 60 s
+    [[ $(awk '{print $3}' "/proc/$run_y/stat" 2>/dev/null) == T ]] && break
+    sleep 0.1
+  done
   "$bin" run spec.toml -o steal.h5 --resume --quiet "${long[@]}" >steal_z.log 2>&1
   rc_z=$?
+  kill -CONT "$run_y"
   wait "$run_y"
   rc_y=$?
   if status_and_message "the run that lost the lock" 2 $rc_x steal_x.log "another run is writing this output" &&
