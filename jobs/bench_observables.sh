@@ -8,7 +8,7 @@
 #   k_observe      + observe E = p^2/2 + V (final_E only: once per lane)
 #   k_window       + observe_window over [50, 100] (no trajectory: E every step of the window)
 #   k_stop_never   + stop when q > 100 (never holds: the condition every step, the snapshots)
-#   k_stop_half    + stop when t > 50 (every lane stops at t = 50)
+#   k_stop_half    + stop when t > 50 (every lane stops at t = 50.01, the first step past 50)
 #   k_never_half   t_end = 50 with the never-holding stop: what k_stop_half costs if a stopped
 #                  lane costs nothing after its stop (both check the condition at every step)
 #   k_half         t_end = 50, no stop
