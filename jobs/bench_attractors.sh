@@ -28,7 +28,6 @@ for c in "${cases[@]}"; do
   grid=() cells=$n
   [[ $c == fixed_points ]] && cells=$((4 * n))  # 10⁴ steps a lane against 4–5·10⁴: 16x the lanes
   for a in $(axes "${spec[$c]}"); do grid+=(--set "grid.$a.n=$cells"); done
-  # integrate: the basin measure dropped from the spec's text, final states instead
   # integrate: the basin measure dropped from the spec's text, the final value of the first
   # axis' variable kept (as the maps carry: q and p, no z or ln λ, which final_state = true adds)
   first=$(axes "${spec[$c]}" | head -n 1)
