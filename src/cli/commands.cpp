@@ -31,15 +31,16 @@ int run_command(const RunArguments& args, MPI_Comm comm) {
                         s.points - s.computed_points, s.computed_points)
           : "";
   // When lanes stop early the nominal rate overstates the work: say what was integrated. An
-  // adaptive method's steps are its attempts, which may outnumber the nominal t_end / h.
+  // adaptive method's steps are its attempts, which may outnumber the nominal t_end / h or fall
+  // short of it with no lane stopped early: its share is of the nominal count, whichever.
   const double nominal = static_cast<double>(s.computed_points) * static_cast<double>(steps);
   const auto done = static_cast<double>(s.lane_steps);
   std::string integrated;
-  if (done < nominal)
+  if (done < nominal && !outcome.adaptive)
     integrated = fmt::format("; {:.3g} lane-steps integrated ({:.0f} %, the rest stopped early), "
                              "{:.3g}/s",
                              done, 100.0 * done / nominal, done / s.seconds);
-  else if (done > nominal)
+  else if (done != nominal)
     integrated = fmt::format("; {:.3g} lane-steps integrated ({:.0f} % of the nominal t_end / h: "
                              "an adaptive method's attempts), {:.3g}/s",
                              done, 100.0 * done / nominal, done / s.seconds);

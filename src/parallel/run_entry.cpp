@@ -14,6 +14,7 @@
 #include "io/spec_parser.hpp"
 #include "mpi/agreement.hpp"
 #include "mpi/comm.hpp"
+#include "numerics/method_catalog.hpp"
 #include "parallel/progress.hpp"
 
 namespace cs {
@@ -101,6 +102,8 @@ RunOutcome run_here(const RunArguments& args, MPI_Comm comm, RunControl* control
   options.control = control;
   outcome.output = options.output;
   outcome.steps = spec.steps;
+  const MethodInfo* method = find_method(spec.method);
+  outcome.adaptive = method != nullptr && method->adaptive;
   outcome.summary = run_sweep(spec, options, comm);
   return outcome;
 }

@@ -34,6 +34,7 @@ struct RunArguments {
 struct RunOutcome {
   std::string output;      // the file written (or found complete)
   std::int64_t steps = 0;  // per trajectory, for the rate the CLI reports
+  bool adaptive = false;   // an adaptive method: its lane-steps are attempts, not t_end / h each
   SweepSummary summary;
 };
 
