@@ -7,6 +7,8 @@
 // by its orbit, as any other, and the orbit's λ₁ is the value.
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -62,11 +64,11 @@ Described describe(const std::string& scene_lines, double z0,
   a.point = point;
   a.source = 0;
   const std::vector<Attractor> table{a};
-  const bool needs = needs_orbits(plan, table, &fixed_point_exponent);
+  const bool needs = needs_orbits(plan, table, &fixed_point_linearisation);
   orbit_start.clear();
   orbit_transient = -1;
   const auto analysis =
-      analyse_attractors(plan, table, needs ? &stub_orbit : nullptr, &fixed_point_exponent);
+      analyse_attractors(plan, table, needs ? &stub_orbit : nullptr, &fixed_point_linearisation);
   return {needs, analysis.at(0)};
 }
 
@@ -147,6 +149,86 @@ TEST(FixedPointScope, PointWithinTheToleranceKeepsTheJacobian) {
   const Described d = describe("K = \"p^2/2 + q^2/2 - g*z\"\ng = 3.0", 0.3, {0.9e-3, -0.9e-3});
   EXPECT_FALSE(d.needs_orbit);
   EXPECT_NEAR(d.analysis.lyapunov, 0.5 * (-3.0 + std::sqrt(5.0)), 1e-14);
+}
+
+
+// An unstable fixed point is no attractor (attractor_analysis.hpp, unstable_fixed_point): where
+// the exact λ₁ applies and exceeds kUnstableMargin·‖J‖∞ the table refuses the point
+// (merge_candidates). The map's spec as describe's, over q_0 ∈ {−1, −1/3, 1/3, 1}.
+struct Map {
+  std::unique_ptr<RunSpec> spec;
+  std::unique_ptr<RunPlan> plan;
+};
+
+Map map_of(const std::string& scene_lines) {
+  Map m;
+  m.spec = std::make_unique<RunSpec>(parse_run_spec(
+      "[scene]\n" + scene_lines +
+          "\n[initial]\nz = 0.0\n[integrator]\nmethod = \"rk4\"\nh = 0.01\nt_end = 100.0\n"
+          "[grid]\nq_0 = { from = -1.0, to = 1.0, n = 4 }\n[measures]\nbasin = {}\n",
+      {}, "test spec"));
+  m.plan = std::make_unique<RunPlan>(*m.spec, scene_of(*m.spec), *find_method(m.spec->method));
+  return m;
+}
+
+FixedPointLinearisation linearisation_at(const RunPlan& plan, double q, double p) {
+  Attractor a;
+  a.period = 1;
+  a.point = {q, p};
+  a.source = 0;
+  return linearisation_of(plan, a, &fixed_point_linearisation);
+}
+
+TEST(UnstableFixedPoint, SaddleIsRefusedMinimumAndCentreKept) {
+  // The damped double well K = p²/2 + (q² − 1)²/2 − g z, g = 0.1: at the saddle q = 0,
+  // J_(q,p) = [[0, 1], [2, −g]], λ₁ = (−g + √(g² + 8))/2 = 1.3651; at the minima −g/2.
+  const Map well = map_of("K = \"p^2/2 + (q^2 - 1)^2/2 - g*z\"\ng = 0.1");
+  Attractor saddle;
+  saddle.point = {0.0, 0.0};
+  saddle.source = 0;
+  const FixedPointLinearisation s = linearisation_at(*well.plan, 0.0, 0.0);
+  EXPECT_NEAR(s.lyapunov, 0.5 * (-0.1 + std::sqrt(0.01 + 8.0)), 1e-14);
+  EXPECT_TRUE(unstable_fixed_point(*well.plan, saddle, s));
+  Attractor minimum = saddle;
+  minimum.point = {1.0, 0.0};
+  const FixedPointLinearisation m = linearisation_at(*well.plan, 1.0, 0.0);
+  EXPECT_NEAR(m.lyapunov, -0.05, 1e-15);
+  EXPECT_FALSE(unstable_fixed_point(*well.plan, minimum, m));
+  // A centre of a conservative K (±i): a real part rounding may leave on either side of 0 is
+  // far inside the margin, and the point is kept.
+  const Map centre = map_of("K = \"p^2/2 + q^2/2\"");
+  const FixedPointLinearisation c = linearisation_at(*centre.plan, 0.0, 0.0);
+  EXPECT_LE(std::fabs(c.lyapunov), 1e-15);
+  EXPECT_GE(c.norm, 1.0);
+  EXPECT_FALSE(unstable_fixed_point(*centre.plan, saddle, c));
+  // Where the exact λ₁ is not available (z feeds back), nothing is refused: the saddle of
+  // K = p²/2 − q²/2 + c − γz² is kept, described by its orbit as before.
+  const Map z = map_of("K = \"p^2/2 - q^2/2 + c - gamma*z^2\"\nc = 0.5\ngamma = 0.2");
+  EXPECT_FALSE(unstable_fixed_point(*z.plan, saddle, linearisation_at(*z.plan, 0.0, 0.0)));
+}
+
+TEST(UnstableFixedPoint, TheTableRefusesItBeforeLabelling) {
+  // The double well's three fixed points, as three blocks' candidates {first lane, value,
+  // period, q, p}: the saddle is refused, and the minima are numbered 1, 2 as if it had never
+  // been found (3 attractors, numbered 1..3, without the Jacobian).
+  const Map well = map_of("K = \"p^2/2 + (q^2 - 1)^2/2 - g*z\"\ng = 0.1");
+  const std::vector<double> records{0, 0, 1, -1.0, 0.0, 1, 0, 1, 0.0, 0.0, 2, 0, 1, 1.0, 0.0};
+  const AttractorTable before = merge_candidates(*well.plan, records);
+  EXPECT_EQ(before.attractors.size(), 3u);
+  EXPECT_TRUE(before.refused.empty());
+  const AttractorTable after = merge_candidates(*well.plan, records, &fixed_point_linearisation);
+  ASSERT_EQ(after.attractors.size(), 2u);
+  EXPECT_EQ(after.attractors[0].point, (std::vector<double>{-1.0, 0.0}));
+  EXPECT_EQ(after.attractors[1].point, (std::vector<double>{1.0, 0.0}));
+  EXPECT_EQ(after.attractors[0].label, 1);
+  EXPECT_EQ(after.attractors[1].label, 2);
+  // Each kept one holds its linearisation, evaluated once, read by its description.
+  ASSERT_TRUE(after.attractors[0].linearisation.has_value());
+  EXPECT_NEAR(after.attractors[0].linearisation->lyapunov, -0.05, 1e-15);
+  ASSERT_EQ(after.refused.size(), 1u);
+  ASSERT_EQ(after.refused[0].size(), 1u);
+  EXPECT_EQ(after.refused[0][0].point, (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(after.refused[0][0].label, 0);
 }
 
 }  // namespace

@@ -40,14 +40,13 @@ std::vector<double> at_point(const Attractor& a, const OrbitRequest& request) {
   return state;
 }
 
-// The exact λ₁ of the table's fixed point `a` (request: its parameters and state), NaN where
-// there is none to take: not such a fixed point, no `fixed`, or `fixed` says it does not apply
-// there (its Jacobian undefined at the point, or the field not vanishing to within the table's
-// tolerance: fixed_point_exponent.cpp). needs_orbits and classify ask the same question.
-double exact_exponent(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                      FixedPointExponentFn fixed) {
-  if (fixed == nullptr || !table_fixed_point(plan, a) || !exact_at_fixed_points(plan)) return kNaN;
-  return fixed(plan, request.params, at_point(a, request), plan.attractors.tolerance);
+// The exact λ₁ of the table's fixed point `a` from its linearisation, NaN where there is none to
+// take: not such a fixed point, no `fixed`, or `fixed` says it does not apply there (its
+// Jacobian undefined at the point, or the field not vanishing to within the table's tolerance:
+// fixed_point_exponent.cpp).
+double exact_exponent(const RunPlan& plan, const Attractor& a, const FixedPointLinearisation& j) {
+  if (!table_fixed_point(plan, a) || !exact_at_fixed_points(plan)) return kNaN;
+  return j.lyapunov;
 }
 
 // Would a lane started at the table's fixed point break down at once? Where the Jacobian is not
@@ -55,11 +54,8 @@ double exact_exponent(const RunPlan& plan, const Attractor& a, const OrbitReques
 // exactly where the energy trap puts the minimum): its first step is NaN, and so would be the
 // attractor's λ₁. Such a lane starts where its source lane did instead, which the map integrated
 // to the point without breaking down.
-bool undefined_at_point(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                        FixedPointExponentFn fixed) {
-  return fixed != nullptr && table_fixed_point(plan, a) && a.source >= 0 &&
-         std::isnan(fixed(plan, request.params, at_point(a, request),
-                          std::numeric_limits<double>::infinity()));
+bool undefined_at_point(const RunPlan& plan, const Attractor& a, const FixedPointLinearisation& j) {
+  return table_fixed_point(plan, a) && a.source >= 0 && j.undefined;
 }
 
 // What the table and the orbit say (classify adds the exact λ₁ of fixed points).
@@ -68,11 +64,30 @@ AttractorAnalysis described(const RunPlan& plan, const Attractor& a, const Orbit
 
 }  // namespace
 
+FixedPointLinearisation linearisation_of(const RunPlan& plan, const Attractor& a,
+                                         FixedPointExponentFn fixed) {
+  if (a.linearisation) return *a.linearisation;
+  // Where either question is asked of it: its exact λ₁ (exact_exponent), whether a lane from
+  // it would break down (undefined_at_point). The request's z and parameters are the source
+  // lane's, whichever lane the orbit starts from (orbit_request): the same state either way.
+  if (fixed == nullptr || !table_fixed_point(plan, a) ||
+      (!exact_at_fixed_points(plan) && a.source < 0))
+    return {};
+  const OrbitRequest request = orbit_request(plan, a);
+  return fixed(plan, request.params, at_point(a, request), plan.attractors.tolerance);
+}
+
+bool unstable_fixed_point(const RunPlan& plan, const Attractor& a,
+                          const FixedPointLinearisation& j) {
+  const double exact = exact_exponent(plan, a, j);
+  return exact > kUnstableMargin * j.norm;  // false for NaN
+}
+
 bool needs_orbits(const RunPlan& plan, const std::vector<Attractor>& table,
                   FixedPointExponentFn fixed) {
   for (const Attractor& a : table) {
     if (a.period == kExitPeriod) continue;  // nothing to integrate
-    if (std::isnan(exact_exponent(plan, a, orbit_request(plan, a), fixed))) return true;
+    if (std::isnan(exact_exponent(plan, a, linearisation_of(plan, a, fixed)))) return true;
   }
   return false;
 }
@@ -139,9 +154,9 @@ OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a, bool from_so
 }
 
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                           const AttractorOrbit* orbit, FixedPointExponentFn fixed) {
+                           const AttractorOrbit* orbit, const FixedPointLinearisation& j) {
   AttractorAnalysis out = described(plan, a, request, orbit);
-  const double exact = exact_exponent(plan, a, request, fixed);
+  const double exact = exact_exponent(plan, a, j);
   if (!std::isnan(exact)) out.lyapunov = exact;
   return out;
 }
@@ -211,16 +226,17 @@ std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,
       continue;
     }
     OrbitRequest request = orbit_request(plan, table[i]);
+    // One evaluation of the Jacobian for all three questions (none where the table holds it).
+    const FixedPointLinearisation j = linearisation_of(plan, table[i], fixed);
     if (orbit == nullptr) {
-      out[i] = classify(plan, table[i], request, nullptr, fixed);
+      out[i] = classify(plan, table[i], request, nullptr, j);
       continue;
     }
-    if (std::isnan(exact_exponent(plan, table[i], request, fixed)) &&
-        undefined_at_point(plan, table[i], request, fixed))
+    if (std::isnan(exact_exponent(plan, table[i], j)) && undefined_at_point(plan, table[i], j))
       request = orbit_request(plan, table[i], true);
     AttractorOrbit found;
     orbit(request, found);
-    out[i] = classify(plan, table[i], request, &found, fixed);
+    out[i] = classify(plan, table[i], request, &found, j);
   }
   return out;
 }

@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/fixed_point_exponent.hpp"
+
 namespace cs {
 
 struct RunPlan;
@@ -59,10 +61,17 @@ struct AttractorOrbit {
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
-// λ₁ at a fixed point from the vector field's Jacobian (fixed_point_exponent.hpp), NaN where
-// it does not apply there: J not finite, or the state no fixed point to within `tolerance`.
-using FixedPointExponentFn = double (*)(const RunPlan&, const std::vector<double>& params,
-                                        const std::vector<double>& state, double tolerance);
+// A table fixed point whose exact λ₁ exceeds this many times ‖J‖∞ is unstable beyond doubt,
+// and no attractor (unstable_fixed_point). Why this margin: the eigenvalues Eigen computes are
+// exact for J + E with ‖E‖ of a few m·u·‖J‖ (Hessenberg QR is backward stable; J's entries are
+// rounded too), u = 2⁻⁵³ and m ≤ 7 the block's size. A true eigenvalue with real part ≤ 0 then
+// reads at most about κ·‖E‖ above it when simple (κ its condition number) and
+// (‖E‖/‖J‖)^(1/k)·‖J‖ when in a Jordan block of size k: a centre of a conservative K (±iω)
+// reads ~10⁻¹⁶‖J‖, a double zero (a Bogdanov–Takens point) ~10⁻⁸‖J‖, a triple zero
+// ~2·10⁻⁵‖J‖, all below 10⁻⁴‖J‖, as is a simple eigenvalue with κ up to 10¹⁰. A saddle
+// refused has λ₁ ~ ‖J‖ (the Lorenz origin: 11.83 against ‖J‖∞ = 29); one whose λ₁ is under
+// 10⁻⁴‖J‖ is kept, as before, the safe side: its lanes would need 10⁴/‖J‖ time units to leave.
+inline constexpr double kUnstableMargin = 1e-4;
 
 struct AttractorAnalysis {
   AttractorKind kind = AttractorKind::fixed_point;
@@ -70,6 +79,21 @@ struct AttractorAnalysis {
   double time_period = 0.0;    // time units; NaN unless periodic
   std::vector<double> points;  // kAttractorSamples × (q.., p..)
 };
+
+// The Jacobian at the table's fixed point `a`, from one evaluation of `fixed`: `a`'s own where
+// the table holds it (merge_candidates evaluates each once, on every rank alike), else now.
+// The default (NaN, defined) where neither its λ₁ nor whether a lane from it breaks down is
+// asked: no `fixed`, not a fixed point of an autonomous scene, or z feeds back or K reads t and
+// no source lane.
+FixedPointLinearisation linearisation_of(const RunPlan& plan, const Attractor& a,
+                                         FixedPointExponentFn fixed);
+
+// Is the table's fixed point `a` (its linearisation `j`) unstable, hence no attractor? Where
+// its exact λ₁ applies (a fixed point of an autonomous scene, z not feeding back, K not reading
+// t, J defined and the field vanishing at the point) and exceeds kUnstableMargin·‖J‖∞. False
+// wherever the exact λ₁ is not available: those are kept, as before.
+bool unstable_fixed_point(const RunPlan& plan, const Attractor& a,
+                          const FixedPointLinearisation& j);
 
 // Does describing `table` need the kernel's orbits? Not where every attractor is a fixed point
 // of an autonomous scene (the energy trap's and the anchor test's) whose z does not feed back
@@ -91,11 +115,12 @@ bool may_need_orbits(const RunPlan& plan);
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a, bool from_source_lane = false);
 
 // From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
-// point of the table takes its λ₁ from `fixed` where given (exact) and where z does not feed
-// back and K does not read t, and where `fixed` applies at the point (not NaN), else from the
-// orbit.
+// point of the table takes its λ₁ from `j`, its linearisation where given (exact) and where z does not feed
+// back and K does not read t, and where the Jacobian applies at the point (not NaN), else from
+// the orbit.
+// `j`: linearisation_of(plan, a, fixed).
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
-                           const AttractorOrbit* orbit, FixedPointExponentFn fixed = nullptr);
+                           const AttractorOrbit* orbit, const FixedPointLinearisation& j = {});
 
 // Every attractor of the table; `orbit` may be null when !needs_orbits(plan, table, fixed).
 std::vector<AttractorAnalysis> analyse_attractors(const RunPlan& plan,

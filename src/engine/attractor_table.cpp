@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/attractor_analysis.hpp"
 #include "engine/attractor_continuation.hpp"
 #include "engine/attractor_search.hpp"
 #include "engine/label_rule.hpp"
@@ -49,8 +50,8 @@ struct Sighting {
 void add_sighting(const RunPlan& plan, const Sighting& s, std::vector<Attractor>& table) {
   for (const Attractor& a : table)
     if (same_attractor(plan, a, s.period, s.point)) return;
-  table.push_back(
-      {0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {}, s.source});
+  table.push_back({0, s.period, std::vector<double>(s.point, s.point + phase_space(plan)), {},
+                   s.source, std::nullopt});
 }
 
 // A candidate's values: {block begin, value, period, point..}, then the recurrence record where
@@ -91,11 +92,33 @@ void add_point_candidates(const RunPlan& plan, const BlockResults& block, std::i
   }
 }
 
+// Each fixed point of `attractors` its linearisation, evaluated once; the unstable ones moved to
+// `refused` (label 0), in their order. After the merge, so that the lanes that settled on one
+// are still told from those of its neighbours (label_block: nearest of both), and before the
+// sort and the labels, which then are the others' alone. Every rank merges the same candidates
+// in the same order and evaluates the same formula at the same points: the same bits.
+void refuse_unstable(const RunPlan& plan, FixedPointExponentFn fixed,
+                     std::vector<Attractor>& attractors, std::vector<Attractor>& refused) {
+  if (fixed == nullptr) return;
+  std::vector<Attractor> kept;
+  for (Attractor& a : attractors) {
+    if (a.period != kExitPeriod) a.linearisation = linearisation_of(plan, a, fixed);
+    if (a.linearisation && unstable_fixed_point(plan, a, *a.linearisation)) {
+      a.label = 0;
+      refused.push_back(std::move(a));
+    } else {
+      kept.push_back(std::move(a));
+    }
+  }
+  attractors = std::move(kept);
+}
+
 // One value's table (a whole map's without a continuation axis) from its candidates (offsets
 // into `records`, in block order), sorted by (period, point), then the attractors found by
-// recurrences; not labelled yet.
+// recurrences; not labelled yet. Unstable fixed points go to `refused` (refuse_unstable).
 std::vector<Attractor> value_table(const RunPlan& plan, const std::vector<double>& records,
-                                   const std::vector<std::size_t>& order) {
+                                   const std::vector<std::size_t>& order,
+                                   FixedPointExponentFn fixed, std::vector<Attractor>& refused) {
   std::vector<Attractor> attractors;
   std::vector<std::size_t> by_cells;
   for (std::size_t r : order) {
@@ -107,6 +130,7 @@ std::vector<Attractor> value_table(const RunPlan& plan, const std::vector<double
                     static_cast<std::int64_t>(records[r])},
                    attractors);
   }
+  refuse_unstable(plan, fixed, attractors, refused);
   // Coordinates within the link distance count as equal, so that the order (and the labels) do
   // not hang on the last digits of where lanes happened to settle: the magnetic pendulum's
   // magnets at (−1/2, ±√3/2) share q1 up to rounding.
@@ -140,7 +164,8 @@ std::vector<double> block_candidates(const RunPlan& plan, const BlockResults& bl
   return records;
 }
 
-AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records) {
+AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records,
+                                FixedPointExponentFn fixed) {
   const std::size_t width = record_width(plan);
   const ContinuationAxis axis = continuation_axis(plan);
   std::vector<std::size_t> order;
@@ -154,13 +179,21 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
   // With a stop, exits are outcomes too (numbered first): the scene's own rule is for attractors.
   const LabelRule rule = plan.spec.measures.stop ? LabelRule{} : plan.scene.label_rule;
   const std::string& q1 = plan.scene.variables.front().name;
+  std::vector<std::vector<Attractor>> refused(axis.along_parameter ? by_value.size() : 1);
+  const auto keep_refused = [&] {  // only where some were: a table without stays as it was
+    if (std::any_of(refused.begin(), refused.end(), [](const auto& r) { return !r.empty(); }))
+      table.refused = std::move(refused);
+  };
   if (!axis.along_parameter) {
-    table.attractors = value_table(plan, records, by_value.front());
+    table.attractors = value_table(plan, records, by_value.front(), fixed, refused.front());
     table.labels = apply_label_rule(rule, q1, table.attractors);
+    keep_refused();
     return table;
   }
   std::vector<std::vector<Attractor>> tables;
-  for (const auto& candidates : by_value) tables.push_back(value_table(plan, records, candidates));
+  for (std::size_t v = 0; v < by_value.size(); ++v)
+    tables.push_back(value_table(plan, records, by_value[v], fixed, refused[v]));
+  keep_refused();
   Continuation c = continue_attractors(
       std::move(tables), plan.spec.axes.front().values,
       [&](const Attractor& a, const Attractor& b) { return attractor_distance(plan, a, b); },
@@ -171,14 +204,17 @@ AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& 
   return table;
 }
 
-void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, BlockResults& block,
-                 const std::vector<std::vector<Attractor>>& along) {
+std::int64_t label_block(const RunPlan& plan, const std::vector<Attractor>& whole,
+                         BlockResults& block, const std::vector<std::vector<Attractor>>& along,
+                         const std::vector<std::vector<Attractor>>& refused) {
   const int n = phase_space(plan);
   const ContinuationAxis axis = continuation_axis(plan);
   auto& labels = block.columns[static_cast<std::size_t>(plan.map.basin)];
-  const double* previous = nullptr;  // the last lane labelled, and its label
+  const double* previous = nullptr;  // the last lane labelled, its label, and whether refused
   double previous_label = 0.0;
-  std::int64_t value = -1;
+  bool previous_refused = false;
+  std::int64_t value = -1, refused_lanes = 0;
+  static const std::vector<Attractor> none;
   for (std::int64_t i = 0; i < block.range.end - block.range.begin; ++i) {
     const double* point = settlement_of(plan, block, static_cast<std::size_t>(i));
     if (point == nullptr) continue;
@@ -189,12 +225,15 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
     }
     const std::vector<Attractor>& table =
         along.empty() ? whole : along[static_cast<std::size_t>(value)];
+    const std::vector<Attractor>& unstable =
+        refused.empty() ? none : refused[along.empty() ? 0 : static_cast<std::size_t>(value)];
     if (by_recurrence(plan, point)) {
       label = recurrence_label(table, recurrence_record_of(plan, block, static_cast<std::size_t>(i)));
       continue;
     }
     if (point == previous) {
       label = previous_label;
+      refused_lanes += previous_refused;
       continue;
     }
     double nearest = INFINITY;
@@ -204,9 +243,19 @@ void label_block(const RunPlan& plan, const std::vector<Attractor>& whole, Block
       const double d = distance(plan, a.point.data(), point);
       if (d < nearest) nearest = d, label = a.label;
     }
+    // The refused points were merged beside the others (refuse_unstable): a lane belongs to
+    // the nearest of them all, as it would with the point in the table, and is undecided there.
+    bool on_refused = false;
+    for (const Attractor& a : unstable) {
+      if (a.period != static_cast<int>(point[n])) continue;
+      const double d = distance(plan, a.point.data(), point);
+      if (d < nearest) nearest = d, label = 0.0, on_refused = true;
+    }
+    refused_lanes += on_refused;
     if (nearest == INFINITY) label = 0.0;  // never: the table holds every period met
-    else previous = point, previous_label = label;
+    else previous = point, previous_label = label, previous_refused = on_refused;
   }
+  return refused_lanes;
 }
 
 }  // namespace cs

@@ -9,9 +9,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/fixed_point_exponent.hpp"
 #include "engine/results.hpp"
 #include "engine/run_plan.hpp"
 
@@ -27,6 +29,10 @@ struct Attractor {
   // The grid index of a lane that settled on it (the first the table met): its parameters are
   // the attractor's (attractor_analysis.cpp).
   std::int64_t source = -1;
+  // A fixed point's Jacobian at its point, evaluated once where the table was merged with a
+  // Jacobian (merge_candidates): its λ₁, which refuses an unstable one, and its description read
+  // it (attractor_analysis.hpp, linearisation_of). Empty otherwise: they evaluate it then.
+  std::optional<FixedPointLinearisation> linearisation;
 };
 
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
@@ -53,20 +59,33 @@ struct Labelling {
 // The table, sorted by (period, point), and how its labels were chosen. Along a continuation
 // axis: one attractor per branch (its point where it was first found), and `along[k]` the
 // attractors found at the axis' k-th value, each with its branch's label.
+//
+// `refused`: the unstable fixed points met (merge_candidates), per value of the continuation
+// axis (one list without one), each with label 0; empty where none was refused.
 struct AttractorTable {
   std::vector<Attractor> attractors;
   Labelling labels;
   std::vector<std::vector<Attractor>> along;  // empty without a continuation axis
+  std::vector<std::vector<Attractor>> refused;
 };
 
 // The table from every block's candidates (any order of blocks: they are sorted first),
 // labelled by the scene's rule (label_rule.hpp); continued along the grid's first axis when
-// it is a parameter (attractor_continuation.hpp).
-AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records);
+// it is a parameter (attractor_continuation.hpp). With `fixed` (the Jacobian at a fixed point:
+// fixed_point_exponent.hpp), each fixed point's linearisation is evaluated once and kept in it,
+// and an unstable one (attractor_analysis.hpp, unstable_fixed_point) is no attractor: it leaves
+// the value's table for `refused` before the tables are sorted, continued and labelled, so the
+// others are labelled as if it had never been found (renumbered where numbered; the scene's
+// rule may apply where the point alone stopped it: a saddle at q1 = 0).
+AttractorTable merge_candidates(const RunPlan& plan, const std::vector<double>& records,
+                                FixedPointExponentFn fixed = nullptr);
 
 // Replaces the provisional labels of a block (1: settled) by the table's: by `along`'s table
-// of the lane's value where there is a continuation axis.
-void label_block(const RunPlan& plan, const std::vector<Attractor>& table, BlockResults& block,
-                 const std::vector<std::vector<Attractor>>& along = {});
+// of the lane's value where there is a continuation axis. A lane nearer a refused point
+// (`refused`, as AttractorTable's) than any attractor of its period is labelled 0; returns how
+// many were.
+std::int64_t label_block(const RunPlan& plan, const std::vector<Attractor>& table,
+                         BlockResults& block, const std::vector<std::vector<Attractor>>& along = {},
+                         const std::vector<std::vector<Attractor>>& refused = {});
 
 }  // namespace cs

@@ -53,9 +53,11 @@ bool vanishes_within(const std::vector<double>& entries, const std::vector<doubl
 
 }  // namespace
 
-double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& params,
-                            const std::vector<double>& state, double tolerance) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+FixedPointLinearisation fixed_point_linearisation(const RunPlan& plan,
+                                                  const std::vector<double>& params,
+                                                  const std::vector<double>& state,
+                                                  double tolerance) {
+  FixedPointLinearisation out;
   // GiNaC keeps global state, and the attractors are described on several threads. One
   // Jacobian per K and parameter order, kept for the process (a map's attractors share it).
   static std::mutex mutex;
@@ -81,16 +83,36 @@ double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& para
   // The linearisation must exist at the point: an entry GiNaC cannot evaluate there (0/0 in
   // 2q³/√(q⁴), a kink's |q|/q) has no exponent to give, though the flow may have one.
   for (const double e : entries)
-    if (!std::isfinite(e)) return nan;
-  for (const double f : field)
-    if (!std::isfinite(f)) return nan;
-  if (std::isfinite(tolerance) && !vanishes_within(entries, field, n, dof, tolerance)) return nan;
+    if (!std::isfinite(e)) {
+      out.undefined = true;
+      return out;
+    }
   Eigen::MatrixXd jacobian(m, m);
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) jacobian(i, j) = entries[static_cast<std::size_t>(i * n + j)];
+  double norm = 0.0;
+  for (int i = 0; i < m; ++i) {
+    double row = 0.0;
+    for (int j = 0; j < m; ++j) {
+      jacobian(i, j) = entries[static_cast<std::size_t>(i * n + j)];
+      row += std::fabs(jacobian(i, j));
+    }
+    norm = std::max(norm, row);
+  }
   const Eigen::EigenSolver<Eigen::MatrixXd> solver(jacobian, false);
-  if (solver.info() != Eigen::Success) return nan;
-  return solver.eigenvalues().real().maxCoeff();
+  if (solver.info() != Eigen::Success) {
+    out.undefined = true;
+    return out;
+  }
+  out.norm = norm;
+  for (const double f : field)
+    if (!std::isfinite(f)) return out;
+  if (std::isfinite(tolerance) && !vanishes_within(entries, field, n, dof, tolerance)) return out;
+  out.lyapunov = solver.eigenvalues().real().maxCoeff();
+  return out;
+}
+
+double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& params,
+                            const std::vector<double>& state, double tolerance) {
+  return fixed_point_linearisation(plan, params, state, tolerance).lyapunov;
 }
 
 }  // namespace cs

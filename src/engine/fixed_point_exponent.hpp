@@ -18,6 +18,17 @@ namespace cs {
 
 struct RunPlan;
 
+// What the Jacobian says at a point, from one evaluation: `lyapunov` as fixed_point_exponent
+// returns it (NaN where it does not apply there); `undefined` where it would not apply whatever
+// the tolerance (an entry of J not finite there, or no eigenvalues: what an infinite tolerance
+// answers with NaN); `norm` ‖J‖∞ over the block whose eigenvalues give λ₁ (NaN where undefined),
+// the scale against which rounding can move them (attractor_analysis.cpp, unstable_at).
+struct FixedPointLinearisation {
+  double lyapunov = std::numeric_limits<double>::quiet_NaN();
+  bool undefined = false;
+  double norm = std::numeric_limits<double>::quiet_NaN();
+};
+
 // `params` in the plan's scene's order, `state` q.., p.., z at the fixed point. NaN where the
 // Jacobian does not apply: an entry of J is not finite there (GiNaC's partials can be 0/0 at a
 // point where K is smooth: sqrt(q^4)), or, with a finite `tolerance` (a basin map's table:
@@ -29,5 +40,18 @@ struct RunPlan;
 double fixed_point_exponent(const RunPlan& plan, const std::vector<double>& params,
                             const std::vector<double>& state,
                             double tolerance = std::numeric_limits<double>::infinity());
+// The same evaluation, with whether the Jacobian is undefined at the point and its norm: a
+// basin map's table asks all three once per attractor (attractor_analysis.hpp).
+FixedPointLinearisation fixed_point_linearisation(const RunPlan& plan,
+                                                  const std::vector<double>& params,
+                                                  const std::vector<double>& state,
+                                                  double tolerance);
+
+// The same, as a basin map's table and its description take it (attractor_table.hpp,
+// attractor_analysis.hpp): tests may stand in for it.
+using FixedPointExponentFn = FixedPointLinearisation (*)(const RunPlan&,
+                                                         const std::vector<double>& params,
+                                                         const std::vector<double>& state,
+                                                         double tolerance);
 
 }  // namespace cs

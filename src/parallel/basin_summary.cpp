@@ -6,11 +6,13 @@
 #include <functional>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "engine/attractor_continuation.hpp"
 #include "engine/basin_column.hpp"
+#include "engine/fixed_point_exponent.hpp"
 #include "engine/recurrence/lane_records.hpp"
 #include "engine/strip_statistics.hpp"
 #include "mpi/comm.hpp"
@@ -144,6 +146,26 @@ void add_analysis_to_layout(const BasinSummary& basins, const RunPlan& plan, Fil
         {"attractor", "point", "var"}, points);
 }
 
+// The refused points for the summary: each distinct point (a continuation may meet one at every
+// value) with its exact λ₁, the first few.
+std::string refused_points(const std::vector<std::vector<Attractor>>& refused) {
+  constexpr std::size_t kNamed = 3;
+  std::vector<std::string> named;
+  std::size_t count = 0;
+  for (const auto& at_value : refused)
+    for (const Attractor& a : at_value) {
+      const std::string text =
+          fmt::format("({:.4g}) with lambda_1 = {:+.4g}", fmt::join(a.point, ", "),
+                      a.linearisation->lyapunov);
+      if (std::find(named.begin(), named.end(), text) != named.end()) continue;
+      ++count;
+      if (named.size() < kNamed) named.push_back(text);
+    }
+  std::string text = fmt::format("{}", fmt::join(named, "; "));
+  if (count > named.size()) text += fmt::format("; {} more", count - named.size());
+  return text;
+}
+
 }  // namespace
 
 BasinSummary summarise_basins(const RunPlan& whole,
@@ -155,10 +177,14 @@ BasinSummary summarise_basins(const RunPlan& whole,
     const std::vector<double> c = block_candidates(whole, *block);
     candidates.insert(candidates.end(), c.begin(), c.end());
   }
-  AttractorTable table = merge_candidates(whole, gather(comm, candidates, true));
+  // Every rank merges the same candidates and evaluates the same Jacobians: unstable fixed
+  // points are refused alike, before the labels are final (attractor_table.hpp).
+  AttractorTable table =
+      merge_candidates(whole, gather(comm, candidates, true), &fixed_point_linearisation);
   summary.table = std::move(table.attractors);
   summary.labels = std::move(table.labels);
   summary.along = std::move(table.along);
+  summary.refused = std::move(table.refused);
   for (const ElementType type : {ElementType::int8, ElementType::int16, ElementType::int32}) {
     summary.label_type = type;
     const double limit = type == ElementType::int8 ? 127.0 : type == ElementType::int16 ? 32767.0
@@ -169,17 +195,30 @@ BasinSummary summarise_basins(const RunPlan& whole,
   }
   // The undecided lanes per reason, counted as each block is labelled (its provisional values
   // name the reasons of its settled lanes: recurrence/lane_records.hpp).
+  // A lane on a refused point settled, yet is on no attractor: count_undecided counts it as
+  // such (reason `decided`, label 0), and it is counted apart, by why.
   std::vector<std::int64_t> undecided(kUndecidedReasons, 0);
   std::vector<double> provisional;
+  std::int64_t refused = 0;
   for (auto& block : results) {
     const ExpandedBasin labels(whole, *block, true);
     if (whole.map.undecided_reason >= 0)
       provisional = block->columns[static_cast<std::size_t>(whole.map.basin)];
-    label_block(whole, summary.table, *block, summary.along);
-    count_undecided(whole, *block, provisional, undecided.data());
+    const std::int64_t on_refused =
+        label_block(whole, summary.table, *block, summary.along, summary.refused);
+    std::vector<std::int64_t> here(kUndecidedReasons, 0);
+    count_undecided(whole, *block, provisional, here.data());
+    if (whole.map.undecided_reason >= 0) {
+      if (here[0] < on_refused)  // never, short of a bug
+        throw std::logic_error("a lane on a refused fixed point was not counted undecided");
+      here[0] -= on_refused;
+    }
+    for (std::size_t r = 0; r < here.size(); ++r) undecided[r] += here[r];
+    refused += on_refused;
   }
   summary.energy_trap = energy_trap_verdict(whole, results, comm);
-  summary.undecided = undecided_reasons(whole, undecided, comm);
+  summary.undecided =
+      undecided_reasons(whole, undecided, {refused, refused_points(summary.refused)}, comm);
   summary.continuation_axis = first_parameter_axis(whole.spec);
   return summary;
 }

@@ -33,8 +33,11 @@ struct BasinSummary {
   Labelling labels;
   // Whether the energy trap decided basins, and if not why (the root attribute `energy_trap`).
   std::string energy_trap;
-  // Why lanes ended undecided, where the recurrence mapper runs (the root attribute
-  // `basin_undecided`; undecided_summary.hpp); empty otherwise.
+  // The unstable fixed points refused as attractors, per value of the continuation axis (one
+  // list without one; empty where none was): AttractorTable::refused.
+  std::vector<std::vector<Attractor>> refused;
+  // Why lanes ended undecided, where the recurrence mapper runs or a fixed point was refused
+  // (the root attribute `basin_undecided`; undecided_summary.hpp); empty otherwise.
   std::string undecided;
   BasinStatistics statistics;                    // rank 0, after add_statistics
   int continuation_axis = -1;                    // a parameter axis of the grid, if any

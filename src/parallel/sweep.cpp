@@ -554,13 +554,15 @@ SweepSummary run_sweep(const RunSpec& spec, const SweepOptions& options, MPI_Com
     // A table of fixed points may need it all the same, where the Jacobian does not apply at
     // one (fixed_point_exponent.hpp): may_need_orbits could not tell before the map, so it is
     // built here, on every rank alike (the same table, the same exact arithmetic).
-    if (needs_orbits(plan, basins->table, &fixed_point_exponent))
+    if (needs_orbits(plan, basins->table, &fixed_point_linearisation))
       orbit = orbit_kernel(plan, options, comm);
     const auto analysis_start = std::chrono::steady_clock::now();
     agreed(comm, [&] {
-      // The table's fixed points get their exact λ₁ from K's formula (fixed_point_exponent.hpp).
+      // The table's fixed points get their exact λ₁ from K's formula (fixed_point_exponent.hpp),
+      // evaluated once as the table was merged (the table holds it: linearisation_of).
       if (c.rank == 0)
-        basins->analysis = analyse_attractors(plan, basins->table, orbit, &fixed_point_exponent);
+        basins->analysis =
+            analyse_attractors(plan, basins->table, orbit, &fixed_point_linearisation);
     });
     if (orbit != nullptr && !options.quiet && c.rank == 0)
       log("contactsweep: described {} attractor(s) in {:.3f} s", basins->table.size(),

@@ -11,9 +11,12 @@
 namespace cs {
 
 std::string undecided_reasons(const RunPlan& whole, std::vector<std::int64_t> counts,
-                              MPI_Comm comm) {
-  if (whole.map.undecided_reason < 0) return "";
-  allreduce(comm, counts.data(), kUndecidedReasons, MPI_INT64_T, MPI_SUM);
+                              RefusedLanes refused, MPI_Comm comm) {
+  // Every rank has the same table, hence refused points or none: all or none reduce.
+  if (!refused.points.empty()) allreduce(comm, &refused.lanes, 1, MPI_INT64_T, MPI_SUM);
+  if (whole.map.undecided_reason < 0 && refused.lanes == 0) return "";
+  if (whole.map.undecided_reason >= 0)
+    allreduce(comm, counts.data(), kUndecidedReasons, MPI_INT64_T, MPI_SUM);
   static const char* const what[kUndecidedReasons] = {
       "settled on no attractor in the table",
       "no recurrence by t_end (a longer t_end, larger cells: measures.basin.cell_size, or fewer "
@@ -31,6 +34,13 @@ std::string undecided_reasons(const RunPlan& whole, std::vector<std::int64_t> co
     if (counts[r] == 0) continue;
     total += counts[r];
     parts.push_back(fmt::format("{} {}", counts[r], what[r]));
+  }
+  if (refused.lanes > 0) {
+    total += refused.lanes;
+    parts.push_back(fmt::format(
+        "{} settled on an unstable fixed point, refused as an attractor: its exact lambda_1 "
+        "(K's Jacobian) is positive: {}",
+        refused.lanes, refused.points));
   }
   if (total == 0) return "";  // nothing to explain: the file stays as it was without the mapper
   std::string text = fmt::format("{} cells: {}", total, fmt::join(parts, "; "));
