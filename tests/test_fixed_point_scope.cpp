@@ -188,6 +188,8 @@ TEST(UnstableFixedPoint, SaddleIsRefusedMinimumAndCentreKept) {
   saddle.source = 0;
   const FixedPointLinearisation s = linearisation_at(*well.plan, 0.0, 0.0);
   EXPECT_NEAR(s.lyapunov, 0.5 * (-0.1 + std::sqrt(0.01 + 8.0)), 1e-14);
+  // ‖J‖∞ over (q, p, z): the p row |−V''(0)| + |−g| = 2 + 0.1 (docs/basins.md quotes it).
+  EXPECT_DOUBLE_EQ(s.norm, 2.1);
   EXPECT_TRUE(unstable_fixed_point(*well.plan, saddle, s));
   Attractor minimum = saddle;
   minimum.point = {1.0, 0.0};
