@@ -13,8 +13,9 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
     is its own well's and each attractor's cell count is the number of q0 in its well.
   * The double well (built-in, and written as K: two attractors) keeps int8 labels, its label
     rule's -1/+1 and flag_values; at rest |q0| < sqrt 2 (E0 < a^4/2) stays in its own well.
-    Where the rule cannot apply (a lane settled on the saddle) the labels are numbered, and the
-    file (basin_labels) and the log say why.
+    Without the trap the lane that starts on the saddle settles there by the anchor test; the
+    table refuses it (its exact lambda_1 = (-gamma + sqrt(gamma^2 + 8 a^2)) / 2 > 0), so the
+    rule still labels the minima -1/+1 and that cell is undecided, basin_undecided saying why.
   * q0 in [-3 pi, 3 pi]: the box around the map, widened by half its width, used to end at
     +-6 pi, minima of V, which put the trap level at the minimum: the trap trapped nothing and
     every lane was integrated until it settled on line. Now the trap is used (root attribute
@@ -24,7 +25,8 @@ q = 2 pi k, k = round(q0 / 2 pi). Everything below is compared with that.
     with no step, so the lane-steps integrated are at most those of the cells above 0.98; inner
     cells end at their own well's minimum (k = -1, 0, 1), the same the run without the trap
     reaches; the two end cells, on the maxima +-3 pi, are undecided with the trap (it refuses an
-    unstable equilibrium as an attractor) and settle there without it. With gamma in {0, 0.5} as
+    unstable equilibrium as an attractor) and without it (the anchor test settles them there,
+    and the table refuses the maxima: lambda_1 = (-gamma + sqrt(gamma^2 + 4)) / 2 > 0). With gamma in {0, 0.5} as
     a grid axis (a box per parameter set, checked per lane), `energy_trap` says the trap served the damped half and why not the other (no
     dissipation), and the damped half is trapped as above.
 """
@@ -153,22 +155,27 @@ for name, scene, want in [("double_well", 'name = "double_well"\na = 1.0\ngamma 
               list(f["basin"].attrs["flag_values"]) == [-1, 0, 1]
               and f["basin"].attrs["flag_values"].dtype == np.int8)
 
-# The double well's label rule where it cannot apply: without the energy trap (which knows (0, 0)
-# is a saddle) the lane that starts on the saddle settles there by the anchor test, a third
-# attractor at q = 0. The labels are then 1, 2, 3 (not a wrong sign), `basin` has no flags, and
-# the file and the log say why.
+# The double well's saddle without the energy trap (which knows (0, 0) is a saddle): the lane
+# that starts on it settles there by the anchor test, and the table refuses it as unstable (a
+# third attractor at q = 0 would stop the label rule: 1, 2, 3, no flags). The rule labels the
+# minima -1/+1, that cell is undecided, and the file and the log say why.
 f, log = run(DW.replace("{scene}", 'name = "double_well"\na = 1.0\ngamma = 0.1')
              .replace("n = 64", "n = 65").replace("t_end = 100.0", "t_end = 300.0")
              .replace("basin = {}", "basin = { exact_trap = false }"),
              "double_well_saddle")
 if f is not None:
-    why = "cannot label these attractors: an attractor at q = 0"
-    check("double well on its saddle: labels numbered 1 2 3, the saddle 2",
-          list(f["attractor_label"][...]) == [1, 2, 3] and f["attractor_q"][1] == 0.0
-          and f["basin"][32] == 2, f"{f['attractor_label'][...]} {f['attractor_q'][...]}")
-    check("double well on its saddle: no flags on basin, basin_labels and the log say why",
-          "flag_values" not in f["basin"].attrs and why in f.attrs.get("basin_labels", "")
-          and why in log, f"{dict(f['basin'].attrs)} {f.attrs.get('basin_labels')}")
+    saddle = (-0.1 + math.sqrt(0.1 ** 2 + 8.0)) / 2  # 1.3651
+    why = f"1 settled on an unstable fixed point, refused as an attractor: its exact lambda_1 " \
+          f"(K's Jacobian) is positive: (0, 0) with lambda_1 = {saddle:+.4g}"
+    check("double well on its saddle: the saddle refused, the minima labelled -1 1",
+          list(f["attractor_label"][...]) == [-1, 1] and f["q_0"][32] == 0.0
+          and f["basin"][32] == 0 and int((f["basin"][...] == 0).sum()) == 1,
+          f"{f['attractor_label'][...]} {f['attractor_q'][...]}")
+    check("double well on its saddle: the rule's flags on basin, basin_undecided and the log "
+          "say why the saddle's cell is undecided",
+          list(f["basin"].attrs.get("flag_values", [])) == [-1, 0, 1]
+          and why in f.attrs.get("basin_undecided", "") and why in log,
+          f"{dict(f['basin'].attrs)} {f.attrs.get('basin_undecided')}")
 
 # --- item 11: the trap on [-3 pi, 3 pi] --------------------------------------------------------
 LO, HI, N, H, T_END = -3 * math.pi, 3 * math.pi, 512, 0.05, 200.0
@@ -196,11 +203,19 @@ if trap is not None and online is not None:
     check("without the trap: energy_trap says exact_trap = false",
           online.attrs.get("energy_trap") == "not used: measures.basin.exact_trap = false")
     # The end cells sit on the maxima +-3 pi, unstable equilibria between two wells: the search
-    # without the trap settles them there (two more attractors), the trap knows they are maxima
-    # of V and leaves them undecided. Every other cell reaches the same minimum either way.
+    # without the trap settles them there and the table refuses them (their exact lambda_1 =
+    # (-gamma + sqrt(gamma^2 + 4)) / 2 = 0.781), the trap knows they are maxima of V: undecided
+    # either way. Every other cell reaches the same minimum either way.
     inner = np.abs(q0) < 3 * math.pi - 1e-9
+    maxima = (-0.5 + math.sqrt(0.5 ** 2 + 4.0)) / 2
     check("[-3 pi, 3 pi]: every inner cell decided, with and without the trap",
-          (trap["basin"][...][inner] != 0).all() and (online["basin"][...] != 0).all())
+          (trap["basin"][...][inner] != 0).all() and (online["basin"][...][inner] != 0).all())
+    check("[-3 pi, 3 pi]: without the trap the maxima refused, their two cells undecided",
+          (online["basin"][...][~inner] == 0).all()
+          and online.attrs.get("basin_undecided", "").startswith(
+              "2 cells: 2 settled on an unstable fixed point")
+          and f"with lambda_1 = {maxima:+.4g}" in online.attrs.get("basin_undecided", ""),
+          f"{online['basin'][...][~inner]} {online.attrs.get('basin_undecided')}")
     check("[-3 pi, 3 pi]: with the trap the two cells on the maxima +-3 pi are undecided",
           (trap["basin"][...][~inner] == 0).all() and (~inner).sum() == 2)
     def reached(f):

@@ -1,7 +1,8 @@
 // The labels of a run's attractors, by the scene's rule (SceneInfo::label_rule): numbers 1..n in
 // the table's order for any scene, or a scene's own meaning (the double well's −1/+1 for its
 // left and right wells). A rule that cannot label the attractors found (two on one side, one
-// at q1 = 0: the saddle of a lane that started on it, a cycle) never mislabels: the table is
+// at q1 = 0 — not the saddle a lane that started on it settled on, which the table refuses as
+// unstable where its exact λ₁ is known: attractor_table.hpp —, a cycle) never mislabels: the table is
 // numbered instead, and the file and the log say why (BasinSummary::labels).
 #pragma once
 
