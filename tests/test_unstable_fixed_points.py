@@ -18,6 +18,9 @@ before the labels are final, and the cells that settled on it end undecided.
   is refused, while the minima +-a (lambda_1 = -gamma/2, exact) are kept. Without the saddle the
   scene's rule labels them -1/+1 (before, "an attractor at q = 0" numbered them 1..3), and every
   cell carries the label the energy trap gives it, which refuses the saddle lane by lane.
+  Along gamma in {0.1, 0.2} (a continuation: a table per value), the saddle is refused at each
+  value with its own lambda_1 (1.3651, 1.3178), the two branches stay -1/+1, and 2 x 1 ranks
+  give the bits of 1 x 1.
 """
 import math
 import os
@@ -111,5 +114,26 @@ if anchor and trap:
     a, t = anchor["basin"][...], trap["basin"][...]
     check("double well: the energy trap's label on every cell (its saddle lane undecided too)",
           np.array_equal(a, t), f"{int((a != t).sum())} of {a.size} cells differ")
+
+# ---- along gamma: refused at every value of the continuation axis ------------------------------
+along_text = spec("basins_double_well", PLANE + [("basin = {}", "basin = { exact_trap = false }"),
+                                                 ("[grid]", "[grid]\ngamma = { values = [0.1, 0.2] }")])
+one, _ = runs.launch(along_text, "double_well_along_1x1")
+two, _ = runs.launch(along_text, "double_well_along_2x1", ranks=2)
+if one:
+    with h5py.File(one, "r") as f:
+        basin = f["basin"][...]
+        undecided = f.attrs.get("basin_undecided", "")
+        named = [f"(0, 0) with lambda_1 = {(-g + math.sqrt(g * g + 8 * A ** 2)) / 2:+.4g}"
+                 for g in (0.1, 0.2)]
+        check("along gamma: two branches -1/+1, the saddle's cell undecided at each gamma alone",
+              f["attractor_label"][...].tolist() == [-1, 1]
+              and [int(basin[k, 2, 2]) for k in (0, 1)] == [0, 0] and int((basin == 0).sum()) == 2,
+              f"labels {f['attractor_label'][...]}, {int((basin == 0).sum())} undecided")
+        check("along gamma: basin_undecided names the saddle at each gamma with its lambda_1",
+              undecided.startswith("2 cells: 2 settled on an unstable fixed point")
+              and all(n in undecided for n in named), undecided)
+if one and two:
+    runs.same_bits("along gamma: 2 x 1 has the bits of 1 x 1", one, two)
 
 runs.finish()
