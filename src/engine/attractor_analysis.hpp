@@ -61,16 +61,18 @@ struct AttractorOrbit {
 };
 
 using OrbitFn = void (*)(const OrbitRequest&, AttractorOrbit&);
+
 // A table fixed point whose exact λ₁ exceeds this many times ‖J‖∞ is unstable beyond doubt,
 // and no attractor (unstable_fixed_point). Why this margin: the eigenvalues Eigen computes are
 // exact for J + E with ‖E‖ of a few m·u·‖J‖ (Hessenberg QR is backward stable; J's entries are
 // rounded too), u = 2⁻⁵³ and m ≤ 7 the block's size. A true eigenvalue with real part ≤ 0 then
 // reads at most about κ·‖E‖ above it when simple (κ its condition number) and
 // (‖E‖/‖J‖)^(1/k)·‖J‖ when in a Jordan block of size k: a centre of a conservative K (±iω)
-// reads ~10⁻¹⁶‖J‖, a double zero (a Bogdanov–Takens point) ~10⁻⁸‖J‖, a triple zero
+// reads ~10⁻¹⁶‖J‖, a double zero (a Bogdanov–Takens point) ~10⁻⁷‖J‖, a triple zero
 // ~2·10⁻⁵‖J‖, all below 10⁻⁴‖J‖, as is a simple eigenvalue with κ up to 10¹⁰. A saddle
 // refused has λ₁ ~ ‖J‖ (the Lorenz origin: 11.83 against ‖J‖∞ = 29); one whose λ₁ is under
-// 10⁻⁴‖J‖ is kept, as before, the safe side: its lanes would need 10⁴/‖J‖ time units to leave.
+// 10⁻⁴‖J‖ is kept, as before, the safe side: one e-fold away from it takes its lanes more
+// than 10⁴/‖J‖ time units.
 inline constexpr double kUnstableMargin = 1e-4;
 
 struct AttractorAnalysis {
