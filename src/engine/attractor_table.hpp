@@ -32,7 +32,7 @@ struct Attractor {
   // A fixed point's Jacobian at its point, evaluated once where the table was merged with a
   // Jacobian (merge_candidates): its λ₁, which refuses an unstable one, and its description read
   // it (attractor_analysis.hpp, linearisation_of). Empty otherwise: they evaluate it then.
-  std::optional<FixedPointLinearisation> linearisation;
+  std::optional<FixedPointLinearisation> linearisation{};
 };
 
 // Lanes of one attractor sit within about a tolerance of it; attractors must be further apart
