@@ -117,10 +117,9 @@ bool may_need_orbits(const RunPlan& plan);
 OrbitRequest orbit_request(const RunPlan& plan, const Attractor& a, bool from_source_lane = false);
 
 // From the orbit (`orbit` == nullptr: a fixed point described from the table alone). A fixed
-// point of the table takes its λ₁ from `j`, its linearisation where given (exact) and where z does not feed
-// back and K does not read t, and where the Jacobian applies at the point (not NaN), else from
-// the orbit.
-// `j`: linearisation_of(plan, a, fixed).
+// point of the table takes its λ₁ from `j` (linearisation_of(plan, a, fixed)), exact, where z
+// does not feed back, K does not read t and the Jacobian applies at the point (not NaN); else
+// from the orbit.
 AttractorAnalysis classify(const RunPlan& plan, const Attractor& a, const OrbitRequest& request,
                            const AttractorOrbit* orbit, const FixedPointLinearisation& j = {});
 

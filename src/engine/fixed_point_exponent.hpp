@@ -19,10 +19,11 @@ namespace cs {
 struct RunPlan;
 
 // What the Jacobian says at a point, from one evaluation: `lyapunov` as fixed_point_exponent
-// returns it (NaN where it does not apply there); `undefined` where it would not apply whatever
-// the tolerance (an entry of J not finite there, or no eigenvalues: what an infinite tolerance
-// answers with NaN); `norm` ‖J‖∞ over the block whose eigenvalues give λ₁ (NaN where undefined),
-// the scale against which rounding can move them (attractor_analysis.cpp, unstable_at).
+// returns it (NaN where it does not apply there); `undefined` where J itself is not defined
+// there, whatever the tolerance (an entry not finite, or no eigenvalues): a lane started at the
+// point would break down; `norm` ‖J‖∞ over the block whose eigenvalues give λ₁ (NaN where
+// undefined), the scale against which rounding can move them (attractor_analysis.hpp,
+// unstable_fixed_point).
 struct FixedPointLinearisation {
   double lyapunov = std::numeric_limits<double>::quiet_NaN();
   bool undefined = false;
